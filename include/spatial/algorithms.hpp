@@ -1,0 +1,412 @@
+#pragma once
+/// \file algorithms.hpp
+/// The dynamics algorithms, written once for compile-time and run-time trees. Each is a free function
+/// `algorithm(model, data, inputs…)`; it reads the immutable model, writes only into `data` and returns a reference
+/// to its result inside `data`. None allocates, throws or calls a virtual function.
+///
+/// Frames: every per-body quantity is expressed in that body's coordinates (RBDA §4.1 "link coordinates"), with
+/// the Plücker conventions of algebra.hpp; the base frame is body −1's.
+
+#include "spatial/algebra.hpp"
+#include "spatial/joints.hpp"
+#include "spatial/model.hpp"
+
+#include <type_traits>
+#include <utility>
+
+namespace spatial {
+
+/// Frame in which external forces are given to `rnea` and `aba`.
+enum class ForceFrame {
+  Body,  ///< fext[i] in body i's coordinates (moment about body i's origin)
+  Base,  ///< fext[i] in base coordinates (moment about the base origin)
+};
+
+namespace detail {
+template <class F, int... I>
+void for_each_forward(F& f, std::integer_sequence<int, I...>) {
+  (f(std::integral_constant<int, I>{}), ...);
+}
+template <int N, class F, int... I>
+void for_each_backward(F& f, std::integer_sequence<int, I...>) {
+  (f(std::integral_constant<int, N - 1 - I>{}), ...);
+}
+}  // namespace detail
+
+/// Calls f(i) for every body in order 0 … n−1 (parents before children). For a compile-time tree, i is a
+/// `std::integral_constant<int, i>` and the loop is unrolled, so each body's joint code is specialised.
+template <class S, class T, class F>
+void for_each_body(const Model<S, T>& model, F&& f) {
+  if constexpr (Model<S, T>::is_static) {
+    (void)model;
+    detail::for_each_forward(f, std::make_integer_sequence<int, Model<S, T>::NB>{});
+  } else {
+    for (int i = 0; i < model.size(); ++i) f(i);
+  }
+}
+/// Calls f(i) for every body in order n−1 … 0 (children before parents).
+template <class S, class T, class F>
+void for_each_body_reverse(const Model<S, T>& model, F&& f) {
+  if constexpr (Model<S, T>::is_static) {
+    (void)model;
+    detail::for_each_backward<Model<S, T>::NB>(f, std::make_integer_sequence<int, Model<S, T>::NB>{});
+  } else {
+    for (int i = model.size() - 1; i >= 0; --i) f(i);
+  }
+}
+
+/// No external forces (the default of `rnea` and `aba`).
+struct NoExternalForces {};
+
+namespace detail {
+
+enum RneaTerms : unsigned {
+  kGravity = 1u,
+  kVelocity = 2u,
+  kAcceleration = 4u,
+};
+
+template <class Ext>
+inline constexpr bool has_external_v = !std::is_same_v<std::decay_t<Ext>, NoExternalForces>;
+
+/// ⁱX_λ(i) = X_J(qᵢ) X_T(i) (RBDA eq. 4.11), and ⁱX_0 when asked.
+template <bool Base, class S, class T, class I, class Q>
+void update_transform(const Model<S, T>& model, Data<S, T>& data, I index, const Eigen::MatrixBase<Q>& q) {
+  const int i = index;
+  const auto k = static_cast<std::size_t>(i);
+  data.X_up[k] = model.joint(index).transform(S(q[i])) * model.tree_transform(i);
+  if constexpr (Base) {
+    const int p = model.parent(index);
+    data.X_base[k] = p >= 0 ? data.X_up[k] * data.X_base[static_cast<std::size_t>(p)] : data.X_up[k];
+  }
+}
+
+/// Recursive Newton–Euler inverse dynamics with a compile-time choice of terms (RBDA Table 5.1):
+///   vᵢ = ⁱX_λ v_λ + Sᵢ q̇ᵢ,  aᵢ = ⁱX_λ a_λ + Sᵢ q̈ᵢ + vᵢ × Sᵢ q̇ᵢ  (a₀ = −a_g),
+///   fᵢ = Iᵢ aᵢ + vᵢ ×* Iᵢ vᵢ − fᵢˣ,  τᵢ = Sᵢᵀ fᵢ,  f_λ += ⁱX_λᵀ fᵢ.
+/// Terms switched off are not computed at all (no multiplications by zero).
+template <unsigned Terms, class S, class T, class Q, class QD, class QDD, class Ext, class Out>
+void rnea_impl(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q,
+               const Eigen::MatrixBase<QD>& qd, const Eigen::MatrixBase<QDD>& qdd, const Ext& fext,
+               ForceFrame frame, Out& tau) {
+  constexpr bool G = (Terms & kGravity) != 0;
+  constexpr bool V = (Terms & kVelocity) != 0;
+  constexpr bool A = (Terms & kAcceleration) != 0;
+  constexpr bool X = has_external_v<Ext>;
+  const bool base_frame = X && frame == ForceFrame::Base;
+  const Motion<S> a0 = -model.gravity_motion();
+
+  for_each_body(model, [&](auto I) {
+    const int i = I;
+    const auto k = static_cast<std::size_t>(i);
+    const int p = model.parent(I);
+    const auto pk = static_cast<std::size_t>(p);
+    const auto joint = model.joint(I);
+    if (base_frame) update_transform<true>(model, data, I, q);
+    else update_transform<false>(model, data, I, q);
+    const Transform<S>& Xup = data.X_up[k];
+
+    if constexpr (V) {
+      const Motion<S> vJ = joint.motion(S(qd[i]));
+      data.v[k] = p >= 0 ? Xup.apply(data.v[pk]) + vJ : vJ;
+    }
+    if constexpr (G) {
+      data.a[k] = Xup.apply(p >= 0 ? data.a[pk] : a0);
+    } else {
+      if (p >= 0) data.a[k] = Xup.apply(data.a[pk]);
+      else data.a[k] = Motion<S>::Zero();
+    }
+    if constexpr (A) joint.add_motion(data.a[k], S(qdd[i]));
+    if constexpr (V) data.a[k] += joint.cross_motion(data.v[k], S(qd[i]));
+
+    const Inertia<S>& In = model.inertia(i);
+    data.f[k] = In * data.a[k];
+    if constexpr (V) data.f[k] += cross(data.v[k], In * data.v[k]);
+    if constexpr (X) {
+      if (base_frame) data.f[k] -= data.X_base[k].apply_force(fext[k]);
+      else data.f[k] -= fext[k];
+    }
+  });
+
+  for_each_body_reverse(model, [&](auto I) {
+    const int i = I;
+    const auto k = static_cast<std::size_t>(i);
+    const int p = model.parent(I);
+    tau[i] = model.joint(I).project(data.f[k]);
+    if (p >= 0) data.f[static_cast<std::size_t>(p)] += data.X_up[k].apply_force_inverse(data.f[k]);
+  });
+}
+
+}  // namespace detail
+
+/// Inverse dynamics by the recursive Newton–Euler algorithm (RBDA Table 5.1; Featherstone's notes, slide 55):
+/// τ = H(q) q̈ + C(q, q̇) − Σ Jᵢᵀ fᵢˣ. Gravity enters as the fictitious base acceleration a₀ = −a_g, so
+/// `data.a[i]` is body i's acceleration minus gravity (in body coordinates). After the call `data.v`, `data.a`,
+/// `data.f` (force transmitted from the parent across joint i, in body i coordinates) and `data.X_up` hold the
+/// per-body values. `fext[i]` is the external force acting on body i, in body or base coordinates per `frame`
+/// (any container indexable by body with `Force<S>` elements).
+/// Returns `data.tau`.
+template <class S, class T, class Q, class QD, class QDD, class Ext = NoExternalForces>
+const typename Data<S, T>::VectorN& rnea(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q,
+                                         const Eigen::MatrixBase<QD>& qd, const Eigen::MatrixBase<QDD>& qdd,
+                                         const Ext& fext = Ext(), ForceFrame frame = ForceFrame::Body) {
+  using namespace detail;
+  rnea_impl<kGravity | kVelocity | kAcceleration>(model, data, q, qd, qdd, fext, frame, data.tau);
+  return data.tau;
+}
+
+/// Bias forces C(q, q̇) = RNEA(q, q̇, 0): Coriolis, centrifugal and gravity terms, without computing any q̈ term.
+/// Returns `data.tau`.
+template <class S, class T, class Q, class QD>
+const typename Data<S, T>::VectorN& bias_forces(const Model<S, T>& model, Data<S, T>& data,
+                                                const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<QD>& qd) {
+  using namespace detail;
+  rnea_impl<kGravity | kVelocity>(model, data, q, qd, qd, NoExternalForces{}, ForceFrame::Body, data.tau);
+  return data.tau;
+}
+
+/// Gravity torques G(q) = RNEA(q, 0, 0): no velocity or acceleration term is computed. Returns `data.tau`.
+template <class S, class T, class Q>
+const typename Data<S, T>::VectorN& gravity_torques(const Model<S, T>& model, Data<S, T>& data,
+                                                    const Eigen::MatrixBase<Q>& q) {
+  using namespace detail;
+  rnea_impl<kGravity>(model, data, q, q, q, NoExternalForces{}, ForceFrame::Body, data.tau);
+  return data.tau;
+}
+
+/// Forward kinematics: `data.X_up[i]` = ⁱX_λ(i) and `data.X_base[i]` = ⁱX_0 (base → body i coordinates). In
+/// ⁱX_0 = (E, r), r is body i's origin in base coordinates and Eᵀ its orientation (body axes in base coordinates).
+template <class S, class T, class Q>
+void forward_kinematics(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q) {
+  for_each_body(model, [&](auto I) { detail::update_transform<true>(model, data, I, q); });
+}
+
+/// Pose of body i in the base frame after `forward_kinematics`: rotation (body axes in base coordinates) and
+/// position of the body origin.
+template <class S, class T>
+Eigen::Transform<S, 3, Eigen::Isometry> body_pose(const Data<S, T>& data, int i) {
+  const Transform<S>& X = data.X_base[static_cast<std::size_t>(i)];
+  Eigen::Transform<S, 3, Eigen::Isometry> pose = Eigen::Transform<S, 3, Eigen::Isometry>::Identity();
+  pose.linear() = X.E.transpose();
+  pose.translation() = X.r;
+  return pose;
+}
+
+/// Pose in the base frame of a fixed frame (`model.frames()[k]`) after `forward_kinematics`.
+template <class S, class T>
+Eigen::Transform<S, 3, Eigen::Isometry> frame_pose(const Model<S, T>& model, const Data<S, T>& data, int k) {
+  const FixedFrame<S>& fr = model.frames()[static_cast<std::size_t>(k)];
+  const Transform<S> X = fr.body >= 0 ? fr.X * data.X_base[static_cast<std::size_t>(fr.body)] : fr.X;
+  Eigen::Transform<S, 3, Eigen::Isometry> pose = Eigen::Transform<S, 3, Eigen::Isometry>::Identity();
+  pose.linear() = X.E.transpose();
+  pose.translation() = X.r;
+  return pose;
+}
+
+/// Body velocities `data.v` (and `data.X_up`) from (q, q̇): vᵢ = ⁱX_λ v_λ + Sᵢ q̇ᵢ (RBDA eq. 5.7).
+template <class S, class T, class Q, class QD>
+void forward_velocities(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q,
+                        const Eigen::MatrixBase<QD>& qd) {
+  for_each_body(model, [&](auto I) {
+    const int i = I;
+    const auto k = static_cast<std::size_t>(i);
+    const int p = model.parent(I);
+    detail::update_transform<true>(model, data, I, q);
+    const Motion<S> vJ = model.joint(I).motion(S(qd[i]));
+    data.v[k] = p >= 0 ? data.X_up[k].apply(data.v[static_cast<std::size_t>(p)]) + vJ : vJ;
+  });
+}
+
+/// Kinetic energy ½ Σ vᵢ · Iᵢ vᵢ (RBDA eq. 2.71).
+template <class S, class T, class Q, class QD>
+S kinetic_energy(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q,
+                 const Eigen::MatrixBase<QD>& qd) {
+  forward_velocities(model, data, q, qd);
+  S e = S(0);
+  for (int i = 0; i < model.size(); ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    e += dot(data.v[k], model.inertia(i) * data.v[k]);
+  }
+  return e / S(2);
+}
+
+/// Potential energy −Σ mᵢ g · cᵢ (cᵢ: body i's centre of mass in base coordinates), zero at the base origin.
+template <class S, class T, class Q>
+S potential_energy(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q) {
+  forward_kinematics(model, data, q);
+  Vector3<S> first_moment = Vector3<S>::Zero();  // Σ mᵢ cᵢ in base coordinates
+  for (int i = 0; i < model.size(); ++i) {
+    const Transform<S>& X = data.X_base[static_cast<std::size_t>(i)];
+    first_moment += model.inertia(i).m * X.r + X.E.transpose() * model.inertia(i).h;
+  }
+  return -model.gravity().dot(first_moment);
+}
+
+/// Centre of mass of the moving bodies, in base coordinates.
+template <class S, class T, class Q>
+Vector3<S> center_of_mass(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q) {
+  forward_kinematics(model, data, q);
+  Vector3<S> first_moment = Vector3<S>::Zero();
+  S mass = S(0);
+  for (int i = 0; i < model.size(); ++i) {
+    const Transform<S>& X = data.X_base[static_cast<std::size_t>(i)];
+    first_moment += model.inertia(i).m * X.r + X.E.transpose() * model.inertia(i).h;
+    mass += model.inertia(i).m;
+  }
+  return first_moment / mass;
+}
+
+namespace detail {
+/// CRBA on transforms already in `data.X_up` (RBDA Table 6.2):
+///   Iᶜᵢ = Iᵢ + Σ_children ʲX_iᵀ Iᶜⱼ ʲX_i;  Hᵢᵢ = Sᵢᵀ Iᶜᵢ Sᵢ;  F = Iᶜᵢ Sᵢ carried to each ancestor j by the
+///   force transforms, H_ij = H_ji = Sⱼᵀ F. Entries where neither joint is an ancestor of the other stay zero.
+template <class S, class T>
+void crba_impl(const Model<S, T>& model, Data<S, T>& data) {
+  for_each_body(model, [&](auto I) { data.Ic[static_cast<std::size_t>(int(I))] = model.inertia(I); });
+  for_each_body_reverse(model, [&](auto I) {
+    const auto k = static_cast<std::size_t>(int(I));
+    const int p = model.parent(I);
+    if (p >= 0) data.Ic[static_cast<std::size_t>(p)] += data.Ic[k].transformed_inverse(data.X_up[k]);
+  });
+  for_each_body(model, [&](auto I) {
+    const int i = I;
+    const auto joint = model.joint(I);
+    Force<S> F = data.Ic[static_cast<std::size_t>(i)] * joint.motion(S(1));
+    data.H(i, i) = joint.project(F);
+    for (int j = i; model.parent(j) >= 0;) {
+      F = data.X_up[static_cast<std::size_t>(j)].apply_force_inverse(F);
+      j = model.parent(j);
+      const S hij = model.joint(j).project(F);
+      data.H(i, j) = hij;
+      data.H(j, i) = hij;
+    }
+  });
+}
+}  // namespace detail
+
+/// Joint-space inertia matrix H(q) by the composite-rigid-body algorithm (RBDA Table 6.2). Only the entries
+/// H(i, j) where one of i, j is an ancestor of the other are written; the others are structurally zero (they were
+/// zeroed when `data` was built). Returns `data.H`.
+template <class S, class T, class Q>
+const typename Data<S, T>::MatrixN& crba(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q) {
+  for_each_body(model, [&](auto I) { detail::update_transform<false>(model, data, I, q); });
+  detail::crba_impl(model, data);
+  return data.H;
+}
+
+/// Sparse LTDL factorisation H = Lᵀ D L that follows the tree (RBDA Table 6.3): L is unit lower triangular with
+/// L(i, j) ≠ 0 only where j is an ancestor of i, so the cost grows with the tree's depth, not with n³. Reads
+/// `data.H`, writes `data.L` (D on its diagonal, L below it; other entries untouched).
+template <class S, class T>
+void ltdl(const Model<S, T>& model, Data<S, T>& data) {
+  auto& L = data.L;
+  for_each_body(model, [&](auto I) {
+    const int k = I;
+    L(k, k) = data.H(k, k);
+    for (int i = model.parent(I); i >= 0; i = model.parent(i)) L(k, i) = data.H(k, i);
+  });
+  for_each_body_reverse(model, [&](auto K) {
+    const int k = K;
+    for (int i = model.parent(K); i >= 0; i = model.parent(i)) {
+      const S a = L(k, i) / L(k, k);
+      for (int j = i; j >= 0; j = model.parent(j)) L(i, j) -= a * L(k, j);
+      L(k, i) = a;
+    }
+  });
+}
+
+/// Solves H x = b in place (x holds b on entry) with the factor from `ltdl` (RBDA Table 6.4):
+/// x ← L⁻ᵀ x, x ← D⁻¹ x, x ← L⁻¹ x.
+template <class S, class T, class X>
+void ltdl_solve(const Model<S, T>& model, const Data<S, T>& data, Eigen::MatrixBase<X>& x) {
+  const auto& L = data.L;
+  for_each_body_reverse(model, [&](auto I) {
+    const int i = I;
+    for (int j = model.parent(I); j >= 0; j = model.parent(j)) x[j] -= L(i, j) * x[i];
+  });
+  for_each_body(model, [&](auto I) { x[int(I)] /= L(int(I), int(I)); });
+  for_each_body(model, [&](auto I) {
+    const int i = I;
+    for (int j = model.parent(I); j >= 0; j = model.parent(j)) x[i] -= L(i, j) * x[j];
+  });
+}
+
+/// Forward dynamics by CRBA and the tree-sparse LTDL factorisation (RBDA §6.5):
+/// q̈ = H⁻¹ (τ − C(q, q̇)). Leaves H in `data.H`, its factor in `data.L`, τ − C in `data.tmp`; `data.tau` is not
+/// touched. Returns `data.qdd`.
+template <class S, class T, class Q, class QD, class Tau>
+const typename Data<S, T>::VectorN& forward_dynamics_crba(const Model<S, T>& model, Data<S, T>& data,
+                                                          const Eigen::MatrixBase<Q>& q,
+                                                          const Eigen::MatrixBase<QD>& qd,
+                                                          const Eigen::MatrixBase<Tau>& tau) {
+  using namespace detail;
+  rnea_impl<kGravity | kVelocity>(model, data, q, qd, qd, NoExternalForces{}, ForceFrame::Body, data.tmp);
+  data.tmp = tau - data.tmp;
+  crba_impl(model, data);  // reuses the transforms computed by the bias-force pass
+  ltdl(model, data);
+  data.qdd = data.tmp;
+  ltdl_solve(model, data, data.qdd);
+  return data.qdd;
+}
+
+/// Forward dynamics by the articulated-body algorithm (RBDA Table 7.1):
+///  pass 1: vᵢ, cᵢ = vᵢ × Sᵢ q̇ᵢ, Iᴬᵢ = Iᵢ, pᴬᵢ = vᵢ ×* Iᵢ vᵢ − fᵢˣ;
+///  pass 2 (leaves to root): Uᵢ = Iᴬᵢ Sᵢ, Dᵢ = Sᵢᵀ Uᵢ, uᵢ = τᵢ − Sᵢᵀ pᴬᵢ, and the parent receives
+///    Iᵃ = Iᴬᵢ − Uᵢ Uᵢᵀ / Dᵢ, pᵃ = pᴬᵢ + Iᵃ cᵢ + Uᵢ uᵢ / Dᵢ through ⁱX_λᵀ;
+///  pass 3: a′ = ⁱX_λ a_λ + cᵢ (a₀ = −a_g), q̈ᵢ = (uᵢ − Uᵢᵀ a′) / Dᵢ, aᵢ = a′ + Sᵢ q̈ᵢ.
+/// A joint whose subtree has no inertia gives Dᵢ = 0 and non-finite results. Returns `data.qdd`.
+template <class S, class T, class Q, class QD, class Tau, class Ext = NoExternalForces>
+const typename Data<S, T>::VectorN& aba(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q,
+                                        const Eigen::MatrixBase<QD>& qd, const Eigen::MatrixBase<Tau>& tau,
+                                        const Ext& fext = Ext(), ForceFrame frame = ForceFrame::Body) {
+  constexpr bool X = detail::has_external_v<Ext>;
+  const bool base_frame = X && frame == ForceFrame::Base;
+  for_each_body(model, [&](auto I) {
+    const int i = I;
+    const auto k = static_cast<std::size_t>(i);
+    const int p = model.parent(I);
+    const auto joint = model.joint(I);
+    if (base_frame) detail::update_transform<true>(model, data, I, q);
+    else detail::update_transform<false>(model, data, I, q);
+    const Motion<S> vJ = joint.motion(S(qd[i]));
+    data.v[k] = p >= 0 ? data.X_up[k].apply(data.v[static_cast<std::size_t>(p)]) + vJ : vJ;
+    data.c[k] = joint.cross_motion(data.v[k], S(qd[i]));
+    const Inertia<S>& In = model.inertia(i);
+    data.IA[k] = ArticulatedInertia<S>(In);
+    data.pA[k] = cross(data.v[k], In * data.v[k]);
+    if constexpr (X) {
+      if (base_frame) data.pA[k] -= data.X_base[k].apply_force(fext[k]);
+      else data.pA[k] -= fext[k];
+    }
+  });
+  for_each_body_reverse(model, [&](auto I) {
+    const int i = I;
+    const auto k = static_cast<std::size_t>(i);
+    const int p = model.parent(I);
+    const auto joint = model.joint(I);
+    data.U[k] = data.IA[k] * joint.motion(S(1));
+    data.Dinv[k] = S(1) / joint.project(data.U[k]);
+    data.u[k] = S(tau[i]) - joint.project(data.pA[k]);
+    if (p >= 0) {
+      const auto pk = static_cast<std::size_t>(p);
+      ArticulatedInertia<S> Ia = data.IA[k];
+      Ia.subtract_outer(data.U[k], data.Dinv[k]);
+      const Force<S> pa = data.pA[k] + Ia * data.c[k] + data.U[k] * (data.u[k] * data.Dinv[k]);
+      data.IA[pk] += Ia.transformed_inverse(data.X_up[k]);
+      data.pA[pk] += data.X_up[k].apply_force_inverse(pa);
+    }
+  });
+  const Motion<S> a0 = -model.gravity_motion();
+  for_each_body(model, [&](auto I) {
+    const int i = I;
+    const auto k = static_cast<std::size_t>(i);
+    const int p = model.parent(I);
+    data.a[k] = data.X_up[k].apply(p >= 0 ? data.a[static_cast<std::size_t>(p)] : a0) + data.c[k];
+    const S qddi = (data.u[k] - dot(data.a[k], data.U[k])) * data.Dinv[k];
+    data.qdd[i] = qddi;
+    model.joint(I).add_motion(data.a[k], qddi);
+  });
+  return data.qdd;
+}
+
+}  // namespace spatial

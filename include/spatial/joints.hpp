@@ -1,0 +1,177 @@
+#pragma once
+/// \file joints.hpp
+/// One-degree-of-freedom joints (RBDA §4.4, Table 4.1). Each joint model gives
+///  - `transform(q)`: the joint transform X_J(q) from the joint's predecessor frame to the successor (body) frame;
+///  - `motion(qd)`: S q̇, the joint velocity in body coordinates (S is constant in body coordinates, so Ṡ = v × S);
+///  - `project(f)`: Sᵀ f, the component of a body-coordinate force along the joint's motion subspace.
+/// The axis-aligned joints are separate types so that each costs only what its axis needs: a revolute joint
+/// about z is one sine, one cosine and a few multiplies, and its S q̇ has one non-zero entry.
+
+#include "spatial/algebra.hpp"
+
+#include <cstdint>
+#include <string_view>
+
+namespace spatial {
+
+enum class JointType : std::uint8_t {
+  RevoluteX,
+  RevoluteY,
+  RevoluteZ,
+  RevoluteAxis,
+  PrismaticX,
+  PrismaticY,
+  PrismaticZ,
+  PrismaticAxis,
+};
+
+constexpr std::string_view joint_type_name(JointType t) {
+  switch (t) {
+    case JointType::RevoluteX: return "RevoluteX";
+    case JointType::RevoluteY: return "RevoluteY";
+    case JointType::RevoluteZ: return "RevoluteZ";
+    case JointType::RevoluteAxis: return "RevoluteAxis";
+    case JointType::PrismaticX: return "PrismaticX";
+    case JointType::PrismaticY: return "PrismaticY";
+    case JointType::PrismaticZ: return "PrismaticZ";
+    case JointType::PrismaticAxis: return "PrismaticAxis";
+  }
+  return "?";
+}
+constexpr bool is_revolute(JointType t) {
+  return t == JointType::RevoluteX || t == JointType::RevoluteY || t == JointType::RevoluteZ ||
+         t == JointType::RevoluteAxis;
+}
+constexpr bool has_axis(JointType t) { return t == JointType::RevoluteAxis || t == JointType::PrismaticAxis; }
+
+/// Joint model for a compile-time joint type. `axis` is used only by the *Axis types (a unit vector in the joint
+/// frame, which for these joints is also the body frame's direction of the axis).
+template <class S, JointType T>
+struct Joint;
+
+namespace detail {
+// Revolute about coordinate axis K (0 = x, 1 = y, 2 = z).
+template <class S, int K>
+struct RevoluteAxisAligned {
+  static Transform<S> transform(S q) {
+    if constexpr (K == 0) return rotx(q);
+    else if constexpr (K == 1) return roty(q);
+    else return rotz(q);
+  }
+  static Motion<S> motion(S qd) {
+    Motion<S> m = Motion<S>::Zero();
+    m.w[K] = qd;
+    return m;
+  }
+  static S project(const Force<S>& f) { return f.n[K]; }
+  /// Add S q̈ to a.
+  static void add_motion(Motion<S>& a, S qdd) { a.w[K] += qdd; }
+  /// v × (S q̇) for this joint.
+  static Motion<S> cross_motion(const Motion<S>& v, S qd) {
+    // (v × e_K) with e_K angular: [ω × e_K; v × e_K] q̇
+    Vector3<S> e = Vector3<S>::Zero();
+    e[K] = qd;
+    return Motion<S>(v.w.cross(e), v.v.cross(e));
+  }
+};
+template <class S, int K>
+struct PrismaticAxisAligned {
+  static Transform<S> transform(S q) {
+    Vector3<S> r = Vector3<S>::Zero();
+    r[K] = q;
+    return xlt(r);
+  }
+  static Motion<S> motion(S qd) {
+    Motion<S> m = Motion<S>::Zero();
+    m.v[K] = qd;
+    return m;
+  }
+  static S project(const Force<S>& f) { return f.f[K]; }
+  static void add_motion(Motion<S>& a, S qdd) { a.v[K] += qdd; }
+  static Motion<S> cross_motion(const Motion<S>& v, S qd) {
+    Vector3<S> e = Vector3<S>::Zero();
+    e[K] = qd;
+    return Motion<S>(Vector3<S>::Zero(), v.w.cross(e));
+  }
+};
+}  // namespace detail
+
+#define SPATIAL_AXIS_ALIGNED_JOINT(TYPE, BASE, K)                             \
+  template <class S>                                                          \
+  struct Joint<S, JointType::TYPE> : detail::BASE<S, K> {                     \
+    static constexpr JointType type = JointType::TYPE;                        \
+    Joint() = default;                                                        \
+    explicit Joint(const Vector3<S>& /*axis*/) {}                             \
+  };
+SPATIAL_AXIS_ALIGNED_JOINT(RevoluteX, RevoluteAxisAligned, 0)
+SPATIAL_AXIS_ALIGNED_JOINT(RevoluteY, RevoluteAxisAligned, 1)
+SPATIAL_AXIS_ALIGNED_JOINT(RevoluteZ, RevoluteAxisAligned, 2)
+SPATIAL_AXIS_ALIGNED_JOINT(PrismaticX, PrismaticAxisAligned, 0)
+SPATIAL_AXIS_ALIGNED_JOINT(PrismaticY, PrismaticAxisAligned, 1)
+SPATIAL_AXIS_ALIGNED_JOINT(PrismaticZ, PrismaticAxisAligned, 2)
+#undef SPATIAL_AXIS_ALIGNED_JOINT
+
+/// Revolute joint about an arbitrary unit axis a: X_J = rot(E(a, q)), S = [a; 0].
+template <class S>
+struct Joint<S, JointType::RevoluteAxis> {
+  static constexpr JointType type = JointType::RevoluteAxis;
+  Vector3<S> axis;
+  Joint() = default;
+  explicit Joint(const Vector3<S>& a) : axis(a) {}
+  Transform<S> transform(S q) const { return Transform<S>(rot_axis_matrix(axis, q), Vector3<S>::Zero()); }
+  Motion<S> motion(S qd) const { return Motion<S>(axis * qd, Vector3<S>::Zero()); }
+  S project(const Force<S>& f) const { return axis.dot(f.n); }
+  void add_motion(Motion<S>& a, S qdd) const { a.w += axis * qdd; }
+  Motion<S> cross_motion(const Motion<S>& v, S qd) const {
+    const Vector3<S> e = axis * qd;
+    return Motion<S>(v.w.cross(e), v.v.cross(e));
+  }
+};
+
+/// Prismatic joint along an arbitrary unit axis a: X_J = xlt(a q), S = [0; a].
+template <class S>
+struct Joint<S, JointType::PrismaticAxis> {
+  static constexpr JointType type = JointType::PrismaticAxis;
+  Vector3<S> axis;
+  Joint() = default;
+  explicit Joint(const Vector3<S>& a) : axis(a) {}
+  Transform<S> transform(S q) const { return xlt<S>(axis * q); }
+  Motion<S> motion(S qd) const { return Motion<S>(Vector3<S>::Zero(), axis * qd); }
+  S project(const Force<S>& f) const { return axis.dot(f.f); }
+  void add_motion(Motion<S>& a, S qdd) const { a.v += axis * qdd; }
+  Motion<S> cross_motion(const Motion<S>& v, S qd) const {
+    return Motion<S>(Vector3<S>::Zero(), v.w.cross(axis * qd));
+  }
+};
+
+/// A joint whose type is known only at run time (models loaded from files). Same interface; each call switches
+/// once on the type and then runs exactly the code of the compile-time joint, so both give the same numbers.
+template <class S>
+struct RuntimeJoint {
+  JointType type;
+  Vector3<S> axis;
+
+  template <class F>
+  decltype(auto) visit(F&& f) const {
+    switch (type) {
+      case JointType::RevoluteX: return f(Joint<S, JointType::RevoluteX>());
+      case JointType::RevoluteY: return f(Joint<S, JointType::RevoluteY>());
+      case JointType::RevoluteZ: return f(Joint<S, JointType::RevoluteZ>());
+      case JointType::RevoluteAxis: return f(Joint<S, JointType::RevoluteAxis>(axis));
+      case JointType::PrismaticX: return f(Joint<S, JointType::PrismaticX>());
+      case JointType::PrismaticY: return f(Joint<S, JointType::PrismaticY>());
+      case JointType::PrismaticZ: return f(Joint<S, JointType::PrismaticZ>());
+      case JointType::PrismaticAxis: break;
+    }
+    return f(Joint<S, JointType::PrismaticAxis>(axis));
+  }
+  Transform<S> transform(S q) const { return visit([&](const auto& j) { return j.transform(q); }); }
+  Motion<S> motion(S qd) const { return visit([&](const auto& j) { return j.motion(qd); }); }
+  S project(const Force<S>& f) const { return visit([&](const auto& j) { return j.project(f); }); }
+  void add_motion(Motion<S>& a, S qdd) const { visit([&](const auto& j) { j.add_motion(a, qdd); }); }
+  Motion<S> cross_motion(const Motion<S>& v, S qd) const {
+    return visit([&](const auto& j) { return j.cross_motion(v, qd); });
+  }
+};
+
+}  // namespace spatial

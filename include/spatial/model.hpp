@@ -1,0 +1,459 @@
+#pragma once
+/// \file model.hpp
+/// Kinematic trees (RBDA ch. 4): topology, the immutable `Model` and the preallocated `Data`.
+///
+/// Bodies are numbered 0 … n−1 so that every parent precedes its children (`parent(i) < i`); −1 is the fixed
+/// base. Body i is connected to its parent by joint i, which has one degree of freedom, so q, q̇, q̈ and τ all have
+/// n entries in body order. The transform from the parent body's coordinates to body i's is
+/// ⁱX_λ(i) = X_J(qᵢ) X_T(i) (RBDA eq. 4.11): X_T(i) ("tree transform") locates joint i's frame in the parent
+/// body, and X_J is the joint transform.
+///
+/// A tree is either a compile-time fact, `Model<S, Tree<Parents<…>, Joints<…>>>`, with the number of bodies, the
+/// parent array and each joint type known to the compiler, or a run-time one, `Model<S>` (`DynamicTree`), loaded
+/// from a file. The algorithms are written once for both and give the same numbers.
+
+#include "spatial/algebra.hpp"
+#include "spatial/joints.hpp"
+
+#include <array>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Eigenvalues>
+
+namespace spatial {
+
+/// Error raised while building a model (never by the algorithms). Its message names the body or joint at fault.
+class ModelError : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
+};
+
+template <int... P>
+struct Parents {};
+template <JointType... J>
+struct Joints {};
+
+namespace detail {
+template <std::size_t N>
+constexpr bool parents_precede(const std::array<int, N>& p) {
+  for (std::size_t i = 0; i < N; ++i)
+    if (p[i] < -1 || p[i] >= static_cast<int>(i)) return false;
+  return true;
+}
+}  // namespace detail
+
+/// A compile-time topology: `Tree<Parents<-1, 0, 1>, Joints<JointType::RevoluteZ, …>>`.
+template <class P, class J>
+struct Tree;
+template <int... P, JointType... J>
+struct Tree<Parents<P...>, Joints<J...>> {
+  static_assert(sizeof...(P) == sizeof...(J), "one joint type per body");
+  static constexpr int size = static_cast<int>(sizeof...(P));
+  static constexpr std::array<int, sizeof...(P)> parent{{P...}};
+  static constexpr std::array<JointType, sizeof...(J)> joint{{J...}};
+  static_assert(detail::parents_precede(parent), "every parent must precede its child (-1 = base)");
+};
+
+/// The topology of a model loaded at run time.
+struct DynamicTree {};
+
+template <class TreeT>
+inline constexpr bool is_static_tree_v = !std::is_same_v<TreeT, DynamicTree>;
+
+/// Largest compile-time tree whose joint-space matrices are fixed-size Eigen objects; above it they are allocated
+/// once, when the `Data` is built (Eigen refuses fixed-size objects over 128 KiB).
+inline constexpr int kMaxFixedMatrixSize = 64;
+
+template <class S>
+struct FixedFrame {
+  std::string name;
+  int body;              ///< the moving body the frame is attached to (-1: the base)
+  Transform<S> X;        ///< ᶠX_body: from the body's coordinates to the frame's
+};
+
+template <class S>
+class ModelBuilder;
+
+/// The immutable description of a tree: topology, joint types and axes, tree transforms, body inertias and
+/// gravity. Build it with `ModelBuilder` (run time) or `Model<S, Tree>::from(…)` (compile time, checked).
+template <class S, class TreeT = DynamicTree>
+class Model {
+ public:
+  using Scalar = S;
+  using tree_type = TreeT;
+  static constexpr bool is_static = is_static_tree_v<TreeT>;
+  static constexpr int NB = [] {
+    if constexpr (is_static_tree_v<TreeT>) return TreeT::size;
+    else return int(Eigen::Dynamic);
+  }();
+  template <class T>
+  using Array = std::conditional_t<is_static, std::array<T, (is_static ? std::size_t(NB) : 0)>, std::vector<T>>;
+
+  /// Number of bodies (= number of joints = degrees of freedom).
+  int size() const {
+    if constexpr (is_static) return NB;
+    else return static_cast<int>(parent_.size());
+  }
+  int nv() const { return size(); }
+
+  /// λ(i): parent body of body i, -1 for the base.
+  template <int I>
+  static constexpr int parent(std::integral_constant<int, I>) {
+    return TreeT::parent[I];
+  }
+  int parent(int i) const {
+    if constexpr (is_static) return TreeT::parent[static_cast<std::size_t>(i)];
+    else return parent_[static_cast<std::size_t>(i)];
+  }
+  /// The type of joint i.
+  JointType joint_type(int i) const {
+    if constexpr (is_static) return TreeT::joint[static_cast<std::size_t>(i)];
+    else return type_[static_cast<std::size_t>(i)];
+  }
+  /// The model of joint i: a `Joint<S, type>` when i is a compile-time index of a compile-time tree, otherwise a
+  /// `RuntimeJoint<S>`.
+  template <int I>
+  auto joint(std::integral_constant<int, I>) const {
+    if constexpr (is_static) return Joint<S, TreeT::joint[I]>(axis_[I]);
+    else return joint(I);
+  }
+  RuntimeJoint<S> joint(int i) const { return RuntimeJoint<S>{joint_type(i), axis_[static_cast<std::size_t>(i)]}; }
+
+  /// X_T(i): from the parent body's coordinates to joint i's predecessor frame.
+  const Transform<S>& tree_transform(int i) const { return Xtree_[static_cast<std::size_t>(i)]; }
+  /// Spatial inertia of body i in its own coordinates (fixed children already merged in).
+  const Inertia<S>& inertia(int i) const { return I_[static_cast<std::size_t>(i)]; }
+  /// Joint axis of body i (unit vector in body coordinates; meaningful for the *Axis joint types, and filled in
+  /// with the coordinate axis for the others).
+  const Vector3<S>& axis(int i) const { return axis_[static_cast<std::size_t>(i)]; }
+  /// Gravity g as a 3D vector in base coordinates (default (0, 0, −9.81) m/s²).
+  const Vector3<S>& gravity() const { return g_; }
+  /// Spatial gravity acceleration a_g = [0; g] in base coordinates; RNEA starts from a₀ = −a_g (RBDA §5.3).
+  Motion<S> gravity_motion() const { return Motion<S>(Vector3<S>::Zero(), g_); }
+
+  const std::string& body_name(int i) const { return body_names_[static_cast<std::size_t>(i)]; }
+  const std::string& joint_name(int i) const { return joint_names_[static_cast<std::size_t>(i)]; }
+  /// Index of the body with the given name, or -1.
+  int body_index(const std::string& name) const {
+    for (int i = 0; i < size(); ++i)
+      if (body_names_[static_cast<std::size_t>(i)] == name) return i;
+    return -1;
+  }
+  /// Index of the joint with the given name, or -1.
+  int joint_index(const std::string& name) const {
+    for (int i = 0; i < size(); ++i)
+      if (joint_names_[static_cast<std::size_t>(i)] == name) return i;
+    return -1;
+  }
+  /// Frames attached rigidly to bodies (the folded fixed joints: feet, hands, sensors).
+  const std::vector<FixedFrame<S>>& frames() const { return frames_; }
+  /// Mass of the base (fixed bodies merged into the base); it moves nothing.
+  S base_mass() const { return base_mass_; }
+
+  /// Total mass of body i and all its descendants.
+  S subtree_mass(int i) const {
+    S m = S(0);
+    for (int k = i; k < size(); ++k)
+      if (is_ancestor_or_self(i, k)) m += inertia(k).m;
+    return m;
+  }
+  /// Total mass of the moving bodies.
+  S total_mass() const {
+    S m = S(0);
+    for (int k = 0; k < size(); ++k) m += inertia(k).m;
+    return m;
+  }
+  /// True when body `a` is body `b` or one of its ancestors.
+  bool is_ancestor_or_self(int a, int b) const {
+    for (int k = b; k >= 0; k = parent(k))
+      if (k == a) return true;
+    return false;
+  }
+  /// Joints whose subtree carries no mass (and no rotational inertia): they make H singular.
+  std::vector<int> massless_joints() const {
+    std::vector<int> out;
+    for (int i = 0; i < size(); ++i) {
+      bool moves_inertia = false;
+      for (int k = i; k < size(); ++k)
+        if (is_ancestor_or_self(i, k) && (inertia(k).m > S(0) || inertia(k).I.norm() > S(0))) moves_inertia = true;
+      if (!moves_inertia) out.push_back(i);
+    }
+    return out;
+  }
+
+  /// The same model with another gravity vector.
+  Model with_gravity(const Vector3<S>& g) const {
+    Model m = *this;
+    m.g_ = g;
+    return m;
+  }
+
+  /// The same model in another scalar type (e.g. long double as an accuracy reference).
+  template <class T>
+  Model<T, TreeT> cast() const {
+    Model<T, TreeT> out;
+    out.resize_(size());
+    for (int i = 0; i < size(); ++i) {
+      const auto k = static_cast<std::size_t>(i);
+      out.Xtree_[k] = Xtree_[k].template cast<T>();
+      out.I_[k] = I_[k].template cast<T>();
+      out.axis_[k] = axis_[k].template cast<T>();
+    }
+    if constexpr (!is_static) {
+      out.parent_ = parent_;
+      out.type_ = type_;
+    }
+    out.g_ = g_.template cast<T>();
+    out.body_names_ = body_names_;
+    out.joint_names_ = joint_names_;
+    out.base_mass_ = T(base_mass_);
+    for (const auto& f : frames_) out.frames_.push_back({f.name, f.body, f.X.template cast<T>()});
+    return out;
+  }
+
+  /// A compile-time model from a run-time one; throws `ModelError` unless sizes, parents and joint types match.
+  template <class OtherTree>
+  static Model from(const Model<S, OtherTree>& other) {
+    static_assert(is_static, "Model::from converts into a compile-time model");
+    if (other.size() != NB) {
+      std::ostringstream os;
+      os << "model size mismatch: the compile-time tree has " << NB << " bodies, the model has " << other.size();
+      throw ModelError(os.str());
+    }
+    Model out;
+    for (int i = 0; i < NB; ++i) {
+      const auto k = static_cast<std::size_t>(i);
+      if (other.parent(i) != TreeT::parent[k] || other.joint_type(i) != TreeT::joint[k]) {
+        std::ostringstream os;
+        os << "model topology mismatch at body " << i << " '" << other.body_name(i) << "' (joint '"
+           << other.joint_name(i) << "'): the compile-time tree expects parent " << TreeT::parent[k] << " and "
+           << joint_type_name(TreeT::joint[k]) << ", the model has parent " << other.parent(i) << " and "
+           << joint_type_name(other.joint_type(i));
+        throw ModelError(os.str());
+      }
+      out.Xtree_[k] = other.tree_transform(i);
+      out.I_[k] = other.inertia(i);
+      out.axis_[k] = other.axis(i);
+    }
+    out.g_ = other.gravity();
+    out.body_names_.clear();
+    out.joint_names_.clear();
+    for (int i = 0; i < NB; ++i) {
+      out.body_names_.push_back(other.body_name(i));
+      out.joint_names_.push_back(other.joint_name(i));
+    }
+    out.frames_ = other.frames();
+    out.base_mass_ = other.base_mass();
+    return out;
+  }
+
+  Model() {
+    g_ = Vector3<S>(S(0), S(0), S(-9.81));
+    if constexpr (is_static) resize_(NB);
+  }
+
+ private:
+  template <class, class>
+  friend class Model;
+  friend class ModelBuilder<S>;
+
+  void resize_(int n) {
+    if constexpr (!is_static) {
+      const auto k = static_cast<std::size_t>(n);
+      Xtree_.resize(k);
+      I_.resize(k);
+      axis_.resize(k);
+      parent_.resize(k);
+      type_.resize(k);
+    }
+    body_names_.assign(static_cast<std::size_t>(n), std::string());
+    joint_names_.assign(static_cast<std::size_t>(n), std::string());
+  }
+
+  Array<Transform<S>> Xtree_{};
+  Array<Inertia<S>> I_{};
+  Array<Vector3<S>> axis_{};
+  std::vector<int> parent_;      // run-time trees only
+  std::vector<JointType> type_;  // run-time trees only
+  Vector3<S> g_;
+  std::vector<std::string> body_names_, joint_names_;
+  std::vector<FixedFrame<S>> frames_;
+  S base_mass_ = S(0);
+};
+
+namespace detail {
+template <class S>
+bool all_finite(const Transform<S>& X) {
+  return X.E.allFinite() && X.r.allFinite();
+}
+template <class S>
+bool all_finite(const Inertia<S>& I) {
+  using std::isfinite;
+  return isfinite(I.m) && I.h.allFinite() && I.I.allFinite();
+}
+
+/// Reasons an inertia is not that of a physical body, or an empty string.
+template <class S>
+std::string inertia_problem(const Inertia<S>& I) {
+  if (!all_finite(I)) return "mass properties contain NaN or Inf";
+  if (I.m < S(0)) return "negative mass";
+  const S scale = std::max<S>(S(1), I.I.cwiseAbs().maxCoeff());
+  const S tol = S(64) * std::numeric_limits<S>::epsilon() * scale;
+  if ((I.I - I.I.transpose()).cwiseAbs().maxCoeff() > tol) return "rotational inertia is not symmetric";
+  if (I.m == S(0)) {
+    if (I.h.norm() > tol) return "zero mass with a non-zero first moment";
+  }
+  const Matrix3<S> Ic = I.m > S(0) ? I.inertia_com() : I.I;
+  Eigen::SelfAdjointEigenSolver<Matrix3<S>> es(Ic, Eigen::EigenvaluesOnly);
+  const Vector3<S> ev = es.eigenvalues();  // ascending
+  if (ev[0] < -tol) return "rotational inertia about the centre of mass is not positive semi-definite";
+  if (ev[0] + ev[1] < ev[2] - tol) return "principal moments violate the triangle inequality (I1 + I2 >= I3)";
+  return std::string();
+}
+template <class S>
+bool is_rotation(const Matrix3<S>& E) {
+  const S tol = S(1e-9);
+  return (E * E.transpose() - Matrix3<S>::Identity()).cwiseAbs().maxCoeff() < tol && E.determinant() > S(0);
+}
+}  // namespace detail
+
+/// Builds a run-time `Model<S>` body by body, checking every input; `build()` returns a complete model or throws
+/// `ModelError` naming the body at fault (the builder's own state is left as it was before the failing call).
+template <class S = double>
+class ModelBuilder {
+ public:
+  ModelBuilder() { model_.g_ = Vector3<S>(S(0), S(0), S(-9.81)); }
+
+  void set_gravity(const Vector3<S>& g) {
+    if (!g.allFinite()) throw ModelError("gravity contains NaN or Inf");
+    model_.g_ = g;
+  }
+
+  /// Adds a body connected to `parent` (-1: the base) by a one-DoF joint. `X_tree` is ʲX_λ: from the parent's
+  /// coordinates to the joint frame; the joint then moves the body frame relative to the joint frame. `inertia` is
+  /// in the body's coordinates; `axis` is used by the *Axis joint types and must be non-zero (it is normalised).
+  /// Returns the new body's index.
+  int add_body(const std::string& name, int parent, JointType type, const Transform<S>& X_tree,
+               const Inertia<S>& inertia, const Vector3<S>& axis = Vector3<S>::Zero(),
+               const std::string& joint_name = std::string()) {
+    const int index = model_.size();
+    const std::string what = "body '" + name + "'" + (joint_name.empty() ? "" : " (joint '" + joint_name + "')");
+    if (parent < -1 || parent >= index) {
+      std::ostringstream os;
+      os << what << ": parent index " << parent << " does not precede the body (index " << index << ")";
+      throw ModelError(os.str());
+    }
+    if (!detail::all_finite(X_tree) || !detail::is_rotation(X_tree.E))
+      throw ModelError(what + ": joint placement is not a finite rigid transform");
+    const std::string bad = detail::inertia_problem(inertia);
+    if (!bad.empty()) throw ModelError(what + ": " + bad);
+    Vector3<S> a = axis;
+    switch (type) {
+      case JointType::RevoluteX: case JointType::PrismaticX: a = Vector3<S>::UnitX(); break;
+      case JointType::RevoluteY: case JointType::PrismaticY: a = Vector3<S>::UnitY(); break;
+      case JointType::RevoluteZ: case JointType::PrismaticZ: a = Vector3<S>::UnitZ(); break;
+      case JointType::RevoluteAxis:
+      case JointType::PrismaticAxis:
+        if (!a.allFinite() || !(a.norm() > S(0))) throw ModelError(what + ": joint axis is zero or not finite");
+        a.normalize();
+        break;
+    }
+    model_.Xtree_.push_back(X_tree);
+    model_.I_.push_back(inertia);
+    model_.axis_.push_back(a);
+    model_.parent_.push_back(parent);
+    model_.type_.push_back(type);
+    model_.body_names_.push_back(name);
+    model_.joint_names_.push_back(joint_name.empty() ? name : joint_name);
+    return index;
+  }
+
+  /// Attaches a rigid frame to `parent` (-1: the base) at ᶠX_parent = `X`, carrying `inertia` (in the frame's
+  /// coordinates), which is merged exactly into the parent body (dropped onto the base when parent is -1).
+  void add_fixed_body(const std::string& name, int parent, const Transform<S>& X, const Inertia<S>& inertia) {
+    const std::string what = "fixed body '" + name + "'";
+    if (parent < -1 || parent >= model_.size()) {
+      std::ostringstream os;
+      os << what << ": parent index " << parent << " is not a body of the model";
+      throw ModelError(os.str());
+    }
+    if (!detail::all_finite(X) || !detail::is_rotation(X.E))
+      throw ModelError(what + ": placement is not a finite rigid transform");
+    const std::string bad = detail::inertia_problem(inertia);
+    if (!bad.empty()) throw ModelError(what + ": " + bad);
+    if (parent >= 0)
+      model_.I_[static_cast<std::size_t>(parent)] += inertia.transformed_inverse(X);
+    else
+      model_.base_mass_ += inertia.m;
+    model_.frames_.push_back({name, parent, X});
+  }
+
+  int size() const { return model_.size(); }
+  const Model<S>& peek() const { return model_; }
+
+  /// The finished model.
+  Model<S> build() const { return model_; }
+
+ private:
+  Model<S> model_;
+};
+
+namespace detail {
+template <class S, int N>
+using JointVector = Eigen::Matrix<S, N, 1>;
+constexpr int matrix_dim(int nb) { return (nb != Eigen::Dynamic && nb <= kMaxFixedMatrixSize) ? nb : Eigen::Dynamic; }
+}  // namespace detail
+
+/// Per-call buffers of every algorithm, allocated once here (fixed-size for compile-time trees) and never again.
+/// All per-body quantities are in that body's coordinates unless said otherwise.
+template <class S, class TreeT = DynamicTree>
+struct Data {
+  using ModelType = Model<S, TreeT>;
+  static constexpr int NB = ModelType::NB;
+  static constexpr int NM = detail::matrix_dim(NB);
+  template <class T>
+  using Array = typename ModelType::template Array<T>;
+  using VectorN = Eigen::Matrix<S, NB, 1>;
+  using MatrixN = Eigen::Matrix<S, NM, NM>;
+
+  explicit Data(const ModelType& model) {
+    const int n = model.size();
+    if constexpr (!ModelType::is_static) {
+      const auto k = static_cast<std::size_t>(n);
+      X_up.resize(k); X_base.resize(k); v.resize(k); a.resize(k); f.resize(k); c.resize(k);
+      Ic.resize(k); IA.resize(k); pA.resize(k); U.resize(k); Dinv.resize(k); u.resize(k);
+    }
+    tau = VectorN::Zero(n);
+    qdd = VectorN::Zero(n);
+    tmp = VectorN::Zero(n);
+    H = MatrixN::Zero(n, n);
+    L = MatrixN::Zero(n, n);
+  }
+
+  Array<Transform<S>> X_up{};    ///< ⁱX_λ(i): parent coordinates → body i coordinates
+  Array<Transform<S>> X_base{};  ///< ⁱX_0: base coordinates → body i coordinates (forward kinematics)
+  Array<Motion<S>> v{};          ///< body velocities
+  Array<Motion<S>> a{};          ///< body accelerations (RNEA/ABA: including the fictitious −a_g, RBDA §5.3)
+  Array<Force<S>> f{};           ///< RNEA: force transmitted across joint i from body λ(i) to body i
+  Array<Motion<S>> c{};          ///< ABA: velocity-product acceleration cᵢ = vᵢ × S q̇
+  Array<Inertia<S>> Ic{};        ///< CRBA: composite inertia of the subtree rooted at i
+  Array<ArticulatedInertia<S>> IA{};  ///< ABA: articulated-body inertias
+  Array<Force<S>> pA{};          ///< ABA: bias forces
+  Array<Force<S>> U{};           ///< ABA: Uᵢ = I^A S
+  Array<S> Dinv{};               ///< ABA: 1 / (Sᵀ U)
+  Array<S> u{};                  ///< ABA: τ − Sᵀ p^A
+  VectorN tau;                   ///< joint forces (RNEA output)
+  VectorN qdd;                   ///< joint accelerations (forward dynamics output)
+  VectorN tmp;                   ///< scratch: right-hand side of forward dynamics by CRBA
+  MatrixN H;                     ///< joint-space inertia (CRBA output); only ancestor–descendant entries non-zero
+  MatrixN L;                     ///< LTDL factor of H: unit L below the diagonal, D on the diagonal
+};
+
+}  // namespace spatial

@@ -1,0 +1,100 @@
+#pragma once
+// Random kinematic trees and states for the test suites (not part of the installed library).
+
+#include <spatial/spatial.hpp>
+
+#include <random>
+#include <string>
+
+namespace spatial::testing {
+
+enum class Shape { Chain, Branched };
+
+/// The numbers of one random body, kept so that other libraries (KDL) can be fed exactly the same tree.
+struct RandomBody {
+  int parent;
+  JointType type;
+  Vector3<double> axis;        // unit axis in the joint/body frame
+  Transform<double> X_tree;    // parent coordinates -> joint frame
+  double mass;
+  Vector3<double> com;         // in body coordinates
+  Matrix3<double> inertia_com; // about the CoM, body axes
+};
+
+inline Matrix3<double> random_rotation(std::mt19937& rng) {
+  std::normal_distribution<double> n(0.0, 1.0);
+  Eigen::Quaterniond qt(n(rng), n(rng), n(rng), n(rng));
+  qt.normalize();
+  return qt.toRotationMatrix();
+}
+
+/// A physically valid rotational inertia about the CoM: principal moments satisfying the triangle inequality,
+/// in random principal axes.
+inline Matrix3<double> random_inertia_com(std::mt19937& rng, double mass) {
+  std::uniform_real_distribution<double> u(0.05, 1.0);
+  // Principal moments from a random mass distribution: I1 = b + c, I2 = a + c, I3 = a + b with a, b, c >= 0.
+  const double a = u(rng), b = u(rng), c = u(rng);
+  Vector3<double> d(b + c, a + c, a + b);
+  d *= 0.01 * mass;
+  const Matrix3<double> R = random_rotation(rng);
+  return R * d.asDiagonal() * R.transpose();
+}
+
+/// `n` random bodies: chains (each body's parent is the previous one) or branched trees (random earlier parent),
+/// every supported joint type when `all_joint_types`, otherwise revolute joints only.
+inline std::vector<RandomBody> random_bodies(int n, Shape shape, unsigned seed, bool all_joint_types = true) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::uniform_real_distribution<double> mass(0.2, 3.0);
+  static const JointType all[] = {JointType::RevoluteX,  JointType::RevoluteY,  JointType::RevoluteZ,
+                                  JointType::RevoluteAxis, JointType::PrismaticX, JointType::PrismaticY,
+                                  JointType::PrismaticZ, JointType::PrismaticAxis};
+  static const JointType revolute[] = {JointType::RevoluteX, JointType::RevoluteY, JointType::RevoluteZ,
+                                       JointType::RevoluteAxis};
+  std::vector<RandomBody> out;
+  for (int i = 0; i < n; ++i) {
+    RandomBody b;
+    b.parent = shape == Shape::Chain || i == 0 ? i - 1 : std::uniform_int_distribution<int>(-1, i - 1)(rng);
+    b.type = all_joint_types ? all[std::uniform_int_distribution<int>(0, 7)(rng)]
+                             : revolute[std::uniform_int_distribution<int>(0, 3)(rng)];
+    b.axis = Vector3<double>(u(rng), u(rng), u(rng)).normalized();
+    switch (b.type) {
+      case JointType::RevoluteX: case JointType::PrismaticX: b.axis = Vector3<double>::UnitX(); break;
+      case JointType::RevoluteY: case JointType::PrismaticY: b.axis = Vector3<double>::UnitY(); break;
+      case JointType::RevoluteZ: case JointType::PrismaticZ: b.axis = Vector3<double>::UnitZ(); break;
+      default: break;
+    }
+    b.X_tree = Transform<double>(random_rotation(rng), 0.3 * Vector3<double>(u(rng), u(rng), u(rng)));
+    b.mass = mass(rng);
+    b.com = 0.2 * Vector3<double>(u(rng), u(rng), u(rng));
+    b.inertia_com = random_inertia_com(rng, b.mass);
+    out.push_back(b);
+  }
+  return out;
+}
+
+/// A run-time model from random bodies; bodies are named "body<i>", joints "joint<i>".
+inline Model<double> build_model(const std::vector<RandomBody>& bodies, const Vector3<double>& gravity = {0, 0, -9.81}) {
+  ModelBuilder<double> b;
+  b.set_gravity(gravity);
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    const RandomBody& r = bodies[i];
+    b.add_body("body" + std::to_string(i), r.parent, r.type, r.X_tree,
+               Inertia<double>::from_com(r.mass, r.com, r.inertia_com), r.axis, "joint" + std::to_string(i));
+  }
+  return b.build();
+}
+
+inline Model<double> random_model(int n, Shape shape, unsigned seed, bool all_joint_types = true) {
+  return build_model(random_bodies(n, shape, seed, all_joint_types));
+}
+
+/// A random vector of n entries uniform in [-scale, scale].
+inline Eigen::VectorXd random_vector(int n, std::mt19937& rng, double scale = 1.0) {
+  std::uniform_real_distribution<double> u(-scale, scale);
+  Eigen::VectorXd v(n);
+  for (int i = 0; i < n; ++i) v[i] = u(rng);
+  return v;
+}
+
+}  // namespace spatial::testing
