@@ -1,0 +1,3 @@
+#pragma once
+// umbrella header; replaced by the library
+#include <Eigen/Core>
