@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# Builds and runs every test.
+#   1. Release build (preset "release", build/): all tests, including the packaging test.
+#   2. Debug build with ASan + UBSan (preset "asan", build-asan/): all tests except the packaging test.
+# Usage: scripts/test.sh [--quick]    --quick skips step 2.
+# JOBS (default 2) sets the parallelism of builds and tests.
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+
+quick=0
+for arg in "$@"; do
+  case "$arg" in
+    --quick) quick=1 ;;
+    -h|--help) echo "usage: scripts/test.sh [--quick]   (--quick skips the sanitizer build)"; exit 0 ;;
+    *) echo "test.sh: unknown argument '$arg' (try --help)" >&2; exit 2 ;;
+  esac
+done
+jobs=${JOBS:-2}
+
+bash scripts/deps.sh
+
+echo "==== release build and tests ===="
+cmake --preset release
+cmake --build --preset release --parallel "$jobs"
+ctest --test-dir build --output-on-failure --no-tests=error -j "$jobs"
+
+if [[ $quick -eq 1 ]]; then
+  echo "test.sh: --quick given, sanitizer build skipped"
+  exit 0
+fi
+
+echo "==== sanitizer (ASan + UBSan) build and tests ===="
+cmake --preset asan
+cmake --build --preset asan --parallel "$jobs"
+UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1} \
+  ctest --test-dir build-asan --output-on-failure --no-tests=error -j "$jobs" -LE package
+
+echo "test.sh: all tests passed"
