@@ -17,6 +17,14 @@
 #include <cmath>
 #include <type_traits>
 
+/// Forces inlining of the small algebra operations: GCC otherwise keeps some out of line, and returning spatial
+/// vectors through memory from many small calls costs more than the arithmetic itself.
+#if defined(__GNUC__) || defined(__clang__)
+#define SPATIAL_INLINE __attribute__((always_inline)) inline
+#else
+#define SPATIAL_INLINE inline
+#endif
+
 namespace spatial {
 
 template <class S>
@@ -30,13 +38,76 @@ using Matrix6 = Eigen::Matrix<S, 6, 6>;
 
 /// The 3×3 matrix r̃ with r̃ p = r × p (RBDA eq. 2.9).
 template <class S>
-Matrix3<S> skew(const Vector3<S>& r) {
+SPATIAL_INLINE Matrix3<S> skew(const Vector3<S>& r) {
   Matrix3<S> m;
   m << S(0), -r.z(), r.y(),  //
       r.z(), S(0), -r.x(),   //
       -r.y(), r.x(), S(0);
   return m;
 }
+
+namespace detail {
+// Hand-written 3D kernels for the hot paths. Eigen's expression templates give the same arithmetic, but inside the
+// large unrolled functions of a compile-time tree GCC stops inlining them and the cost doubles; these are small
+// enough to be inlined always.
+template <class S>
+SPATIAL_INLINE Vector3<S> mul(const Matrix3<S>& E, const Vector3<S>& x) {
+  return Vector3<S>(E(0, 0) * x[0] + E(0, 1) * x[1] + E(0, 2) * x[2],  //
+                    E(1, 0) * x[0] + E(1, 1) * x[1] + E(1, 2) * x[2],  //
+                    E(2, 0) * x[0] + E(2, 1) * x[1] + E(2, 2) * x[2]);
+}
+/// Eᵀ x
+template <class S>
+SPATIAL_INLINE Vector3<S> mul_t(const Matrix3<S>& E, const Vector3<S>& x) {
+  return Vector3<S>(E(0, 0) * x[0] + E(1, 0) * x[1] + E(2, 0) * x[2],  //
+                    E(0, 1) * x[0] + E(1, 1) * x[1] + E(2, 1) * x[2],  //
+                    E(0, 2) * x[0] + E(1, 2) * x[1] + E(2, 2) * x[2]);
+}
+template <class S>
+SPATIAL_INLINE Vector3<S> cross3(const Vector3<S>& a, const Vector3<S>& b) {
+  return Vector3<S>(a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]);
+}
+template <class S>
+SPATIAL_INLINE Vector3<S> add3(const Vector3<S>& a, const Vector3<S>& b) {
+  return Vector3<S>(a[0] + b[0], a[1] + b[1], a[2] + b[2]);
+}
+template <class S>
+SPATIAL_INLINE Vector3<S> sub3(const Vector3<S>& a, const Vector3<S>& b) {
+  return Vector3<S>(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
+}
+template <class S>
+SPATIAL_INLINE Vector3<S> scale3(S s, const Vector3<S>& a) {
+  return Vector3<S>(s * a[0], s * a[1], s * a[2]);
+}
+template <class S>
+SPATIAL_INLINE S dot3(const Vector3<S>& a, const Vector3<S>& b) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+/// A B
+template <class S>
+SPATIAL_INLINE Matrix3<S> mul(const Matrix3<S>& A, const Matrix3<S>& B) {
+  Matrix3<S> C;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) C(i, j) = A(i, 0) * B(0, j) + A(i, 1) * B(1, j) + A(i, 2) * B(2, j);
+  return C;
+}
+/// Aᵀ B
+template <class S>
+SPATIAL_INLINE Matrix3<S> mul_tn(const Matrix3<S>& A, const Matrix3<S>& B) {
+  Matrix3<S> C;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) C(i, j) = A(0, i) * B(0, j) + A(1, i) * B(1, j) + A(2, i) * B(2, j);
+  return C;
+}
+/// a bᵀ + b aᵀ
+template <class S>
+SPATIAL_INLINE Matrix3<S> sym_outer(const Vector3<S>& a, const Vector3<S>& b) {
+  Matrix3<S> C;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) C(i, j) = a[i] * b[j] + b[i] * a[j];
+  return C;
+}
+}  // namespace detail
 
 /// A spatial motion vector (velocity, acceleration, motion subspace column): [ω; v_O], angular first.
 template <class S>
@@ -46,10 +117,10 @@ struct Motion {
   Vector3<S> v;  ///< linear part v_O: velocity of the body-fixed point at the frame origin O
 
   Motion() = default;
-  Motion(const Vector3<S>& angular, const Vector3<S>& linear) : w(angular), v(linear) {}
+  SPATIAL_INLINE Motion(const Vector3<S>& angular, const Vector3<S>& linear) : w(angular), v(linear) {}
   /// From the six Plücker coordinates [ω; v].
   explicit Motion(const Vector6<S>& m) : w(m.template head<3>()), v(m.template tail<3>()) {}
-  static Motion Zero() { return Motion(Vector3<S>::Zero(), Vector3<S>::Zero()); }
+  static SPATIAL_INLINE Motion Zero() { return Motion(Vector3<S>::Zero(), Vector3<S>::Zero()); }
 
   const Vector3<S>& angular() const { return w; }
   const Vector3<S>& linear() const { return v; }
@@ -59,16 +130,16 @@ struct Motion {
     return out;
   }
   template <class T>
-  Motion<T> cast() const {
+  SPATIAL_INLINE Motion<T> cast() const {
     return Motion<T>(w.template cast<T>(), v.template cast<T>());
   }
-  Motion& operator+=(const Motion& o) { w += o.w; v += o.v; return *this; }
-  Motion& operator-=(const Motion& o) { w -= o.w; v -= o.v; return *this; }
-  friend Motion operator+(const Motion& a, const Motion& b) { return Motion(a.w + b.w, a.v + b.v); }
-  friend Motion operator-(const Motion& a, const Motion& b) { return Motion(a.w - b.w, a.v - b.v); }
-  friend Motion operator-(const Motion& a) { return Motion(-a.w, -a.v); }
-  friend Motion operator*(S s, const Motion& a) { return Motion(s * a.w, s * a.v); }
-  friend Motion operator*(const Motion& a, S s) { return Motion(s * a.w, s * a.v); }
+  SPATIAL_INLINE Motion& operator+=(const Motion& o) { w = detail::add3(w, o.w); v = detail::add3(v, o.v); return *this; }
+  SPATIAL_INLINE Motion& operator-=(const Motion& o) { w = detail::sub3(w, o.w); v = detail::sub3(v, o.v); return *this; }
+  friend SPATIAL_INLINE Motion operator+(const Motion& a, const Motion& b) { return Motion(detail::add3(a.w, b.w), detail::add3(a.v, b.v)); }
+  friend SPATIAL_INLINE Motion operator-(const Motion& a, const Motion& b) { return Motion(detail::sub3(a.w, b.w), detail::sub3(a.v, b.v)); }
+  friend SPATIAL_INLINE Motion operator-(const Motion& a) { return Motion(-a.w, -a.v); }
+  friend SPATIAL_INLINE Motion operator*(S s, const Motion& a) { return Motion(detail::scale3(s, a.w), detail::scale3(s, a.v)); }
+  friend SPATIAL_INLINE Motion operator*(const Motion& a, S s) { return s * a; }
 };
 
 /// A spatial force vector (force, momentum, impulse): [n_O; f], moment about the frame origin O first.
@@ -79,10 +150,10 @@ struct Force {
   Vector3<S> f;  ///< linear force
 
   Force() = default;
-  Force(const Vector3<S>& moment, const Vector3<S>& linear) : n(moment), f(linear) {}
+  SPATIAL_INLINE Force(const Vector3<S>& moment, const Vector3<S>& linear) : n(moment), f(linear) {}
   /// From the six Plücker coordinates [n; f].
   explicit Force(const Vector6<S>& x) : n(x.template head<3>()), f(x.template tail<3>()) {}
-  static Force Zero() { return Force(Vector3<S>::Zero(), Vector3<S>::Zero()); }
+  static SPATIAL_INLINE Force Zero() { return Force(Vector3<S>::Zero(), Vector3<S>::Zero()); }
 
   const Vector3<S>& angular() const { return n; }
   const Vector3<S>& linear() const { return f; }
@@ -92,39 +163,41 @@ struct Force {
     return out;
   }
   template <class T>
-  Force<T> cast() const {
+  SPATIAL_INLINE Force<T> cast() const {
     return Force<T>(n.template cast<T>(), f.template cast<T>());
   }
-  Force& operator+=(const Force& o) { n += o.n; f += o.f; return *this; }
-  Force& operator-=(const Force& o) { n -= o.n; f -= o.f; return *this; }
-  friend Force operator+(const Force& a, const Force& b) { return Force(a.n + b.n, a.f + b.f); }
-  friend Force operator-(const Force& a, const Force& b) { return Force(a.n - b.n, a.f - b.f); }
-  friend Force operator-(const Force& a) { return Force(-a.n, -a.f); }
-  friend Force operator*(S s, const Force& a) { return Force(s * a.n, s * a.f); }
-  friend Force operator*(const Force& a, S s) { return Force(s * a.n, s * a.f); }
+  SPATIAL_INLINE Force& operator+=(const Force& o) { n = detail::add3(n, o.n); f = detail::add3(f, o.f); return *this; }
+  SPATIAL_INLINE Force& operator-=(const Force& o) { n = detail::sub3(n, o.n); f = detail::sub3(f, o.f); return *this; }
+  friend SPATIAL_INLINE Force operator+(const Force& a, const Force& b) { return Force(detail::add3(a.n, b.n), detail::add3(a.f, b.f)); }
+  friend SPATIAL_INLINE Force operator-(const Force& a, const Force& b) { return Force(detail::sub3(a.n, b.n), detail::sub3(a.f, b.f)); }
+  friend SPATIAL_INLINE Force operator-(const Force& a) { return Force(-a.n, -a.f); }
+  friend SPATIAL_INLINE Force operator*(S s, const Force& a) { return Force(detail::scale3(s, a.n), detail::scale3(s, a.f)); }
+  friend SPATIAL_INLINE Force operator*(const Force& a, S s) { return s * a; }
 };
 
 /// The scalar product m · f (power, work): the only product between the two spaces (RBDA §2.6).
 template <class S>
-S dot(const Motion<S>& m, const Force<S>& f) {
-  return m.w.dot(f.n) + m.v.dot(f.f);
+SPATIAL_INLINE S dot(const Motion<S>& m, const Force<S>& f) {
+  return detail::dot3(m.w, f.n) + detail::dot3(m.v, f.f);
 }
 template <class S>
-S dot(const Force<S>& f, const Motion<S>& m) {
+SPATIAL_INLINE S dot(const Force<S>& f, const Motion<S>& m) {
   return dot(m, f);
 }
 
 /// Motion cross product a × b = [ω̃ 0; ṽ ω̃] b (RBDA eq. 2.31): the rate of change of the motion vector b
 /// moving with velocity a.
 template <class S>
-Motion<S> cross(const Motion<S>& a, const Motion<S>& b) {
-  return Motion<S>(a.w.cross(b.w), a.w.cross(b.v) + a.v.cross(b.w));
+SPATIAL_INLINE Motion<S> cross(const Motion<S>& a, const Motion<S>& b) {
+  using namespace detail;
+  return Motion<S>(cross3(a.w, b.w), add3(cross3(a.w, b.v), cross3(a.v, b.w)));
 }
 
 /// Force cross product a ×* f = [ω̃ ṽ; 0 ω̃] f = −(a×)ᵀ f (RBDA eq. 2.32).
 template <class S>
-Force<S> cross(const Motion<S>& a, const Force<S>& f) {
-  return Force<S>(a.w.cross(f.n) + a.v.cross(f.f), a.w.cross(f.f));
+SPATIAL_INLINE Force<S> cross(const Motion<S>& a, const Force<S>& f) {
+  using namespace detail;
+  return Force<S>(add3(cross3(a.w, f.n), cross3(a.v, f.f)), cross3(a.w, f.f));
 }
 
 /// 6×6 matrix of `a ×` (tests and diagnostics only).
@@ -153,31 +226,41 @@ struct Transform {
   Vector3<S> r;
 
   Transform() = default;
-  Transform(const Matrix3<S>& rotation, const Vector3<S>& translation) : E(rotation), r(translation) {}
-  static Transform Identity() { return Transform(Matrix3<S>::Identity(), Vector3<S>::Zero()); }
+  SPATIAL_INLINE Transform(const Matrix3<S>& rotation, const Vector3<S>& translation) : E(rotation), r(translation) {}
+  static SPATIAL_INLINE Transform Identity() { return Transform(Matrix3<S>::Identity(), Vector3<S>::Zero()); }
 
   /// ᴮm = X ᴬm: [E ω; E (v − r × ω)].
-  Motion<S> apply(const Motion<S>& m) const { return Motion<S>(E * m.w, E * (m.v - r.cross(m.w))); }
+  SPATIAL_INLINE Motion<S> apply(const Motion<S>& m) const {
+    using namespace detail;
+    return Motion<S>(mul(E, m.w), mul(E, sub3(m.v, cross3(r, m.w))));
+  }
   /// ᴬm = X⁻¹ ᴮm: [Eᵀ ω; Eᵀ v + r × Eᵀ ω].
-  Motion<S> apply_inverse(const Motion<S>& m) const {
-    Vector3<S> w = E.transpose() * m.w;
-    return Motion<S>(w, E.transpose() * m.v + r.cross(w));
+  SPATIAL_INLINE Motion<S> apply_inverse(const Motion<S>& m) const {
+    using namespace detail;
+    const Vector3<S> w = mul_t(E, m.w);
+    return Motion<S>(w, add3(mul_t(E, m.v), cross3(r, w)));
   }
   /// ᴮf = X* ᴬf: [E (n − r × f); E f].
-  Force<S> apply_force(const Force<S>& f) const { return Force<S>(E * (f.n - r.cross(f.f)), E * f.f); }
+  SPATIAL_INLINE Force<S> apply_force(const Force<S>& f) const {
+    using namespace detail;
+    return Force<S>(mul(E, sub3(f.n, cross3(r, f.f))), mul(E, f.f));
+  }
   /// ᴬf = Xᵀ ᴮf (the inverse of X*): [Eᵀ n + r × Eᵀ f; Eᵀ f].
-  Force<S> apply_force_inverse(const Force<S>& f) const {
-    Vector3<S> lin = E.transpose() * f.f;
-    return Force<S>(E.transpose() * f.n + r.cross(lin), lin);
+  SPATIAL_INLINE Force<S> apply_force_inverse(const Force<S>& f) const {
+    using namespace detail;
+    const Vector3<S> lin = mul_t(E, f.f);
+    return Force<S>(add3(mul_t(E, f.n), cross3(r, lin)), lin);
   }
 
   /// ᴬX_B.
-  Transform inverse() const { return Transform(E.transpose(), -(E * r)); }
+  SPATIAL_INLINE Transform inverse() const { return Transform(E.transpose(), -(E * r)); }
 
   /// Composition: (ᶜX_B)(ᴮX_A) = ᶜX_A.  With X1 = (E1, r1), X2 = (E2, r2): E = E1 E2, r = r2 + E2ᵀ r1.
-  Transform operator*(const Transform& x2) const { return Transform(E * x2.E, x2.r + x2.E.transpose() * r); }
-  Motion<S> operator*(const Motion<S>& m) const { return apply(m); }
-  Force<S> operator*(const Force<S>& f) const { return apply_force(f); }
+  SPATIAL_INLINE Transform operator*(const Transform& x2) const {
+    return Transform(detail::mul(E, x2.E), detail::add3(x2.r, detail::mul_t(x2.E, r)));
+  }
+  SPATIAL_INLINE Motion<S> operator*(const Motion<S>& m) const { return apply(m); }
+  SPATIAL_INLINE Force<S> operator*(const Force<S>& f) const { return apply_force(f); }
 
   /// 6×6 motion transform [E 0; −E r̃ E] (tests and diagnostics only).
   Matrix6<S> matrix() const {
@@ -198,14 +281,14 @@ struct Transform {
     return x;
   }
   template <class T>
-  Transform<T> cast() const {
+  SPATIAL_INLINE Transform<T> cast() const {
     return Transform<T>(E.template cast<T>(), r.template cast<T>());
   }
 };
 
 /// Passive rotation matrices: coordinates of a vector in a frame rotated by θ about x, y, z (RBDA eq. 2.20).
 template <class S>
-Matrix3<S> rotx_matrix(S theta) {
+SPATIAL_INLINE Matrix3<S> rotx_matrix(S theta) {
   using std::cos;
   using std::sin;
   const S c = cos(theta), s = sin(theta);
@@ -214,7 +297,7 @@ Matrix3<S> rotx_matrix(S theta) {
   return e;
 }
 template <class S>
-Matrix3<S> roty_matrix(S theta) {
+SPATIAL_INLINE Matrix3<S> roty_matrix(S theta) {
   using std::cos;
   using std::sin;
   const S c = cos(theta), s = sin(theta);
@@ -223,7 +306,7 @@ Matrix3<S> roty_matrix(S theta) {
   return e;
 }
 template <class S>
-Matrix3<S> rotz_matrix(S theta) {
+SPATIAL_INLINE Matrix3<S> rotz_matrix(S theta) {
   using std::cos;
   using std::sin;
   const S c = cos(theta), s = sin(theta);
@@ -233,7 +316,7 @@ Matrix3<S> rotz_matrix(S theta) {
 }
 /// Passive rotation by θ about the unit axis a: E = cosθ·1 + (1 − cosθ) a aᵀ − sinθ ã  (transpose of Rodrigues).
 template <class S>
-Matrix3<S> rot_axis_matrix(const Vector3<S>& a, S theta) {
+SPATIAL_INLINE Matrix3<S> rot_axis_matrix(const Vector3<S>& a, S theta) {
   using std::cos;
   using std::sin;
   const S c = cos(theta), s = sin(theta);
@@ -242,14 +325,14 @@ Matrix3<S> rot_axis_matrix(const Vector3<S>& a, S theta) {
 
 /// The frame rotated by θ about x (RBDA eq. 2.20, `rotx` in spatial_v2).
 template <class S>
-Transform<S> rotx(S theta) { return Transform<S>(rotx_matrix(theta), Vector3<S>::Zero()); }
+SPATIAL_INLINE Transform<S> rotx(S theta) { return Transform<S>(rotx_matrix(theta), Vector3<S>::Zero()); }
 template <class S>
-Transform<S> roty(S theta) { return Transform<S>(roty_matrix(theta), Vector3<S>::Zero()); }
+SPATIAL_INLINE Transform<S> roty(S theta) { return Transform<S>(roty_matrix(theta), Vector3<S>::Zero()); }
 template <class S>
-Transform<S> rotz(S theta) { return Transform<S>(rotz_matrix(theta), Vector3<S>::Zero()); }
+SPATIAL_INLINE Transform<S> rotz(S theta) { return Transform<S>(rotz_matrix(theta), Vector3<S>::Zero()); }
 /// The frame translated by r (coordinates of the new origin in the old frame) (RBDA eq. 2.21, `xlt`).
 template <class S>
-Transform<S> xlt(const Vector3<S>& r) { return Transform<S>(Matrix3<S>::Identity(), r); }
+SPATIAL_INLINE Transform<S> xlt(const Vector3<S>& r) { return Transform<S>(Matrix3<S>::Identity(), r); }
 
 /// Spatial rigid-body inertia, stored compactly (RBDA §2.13, eq. 2.63): mass m, first moment h = m c and the
 /// rotational inertia Ī about the frame origin. As a 6×6 it is [Ī h̃; h̃ᵀ m1].
@@ -263,11 +346,11 @@ struct Inertia {
   Inertia() = default;
   Inertia(S mass, const Vector3<S>& first_moment, const Matrix3<S>& rot_inertia_origin)
       : m(mass), h(first_moment), I(rot_inertia_origin) {}
-  static Inertia Zero() { return Inertia(S(0), Vector3<S>::Zero(), Matrix3<S>::Zero()); }
+  static SPATIAL_INLINE Inertia Zero() { return Inertia(S(0), Vector3<S>::Zero(), Matrix3<S>::Zero()); }
 
   /// From mass, centre of mass c and rotational inertia I_c about the centre of mass, all in this frame:
   /// Ī = I_c + m c̃ c̃ᵀ (parallel-axis theorem, RBDA eq. 2.63).
-  static Inertia from_com(S mass, const Vector3<S>& com, const Matrix3<S>& inertia_com) {
+  static SPATIAL_INLINE Inertia from_com(S mass, const Vector3<S>& com, const Matrix3<S>& inertia_com) {
     const Matrix3<S> cx = skew(com);
     return Inertia(mass, mass * com, inertia_com + mass * cx * cx.transpose());
   }
@@ -281,25 +364,38 @@ struct Inertia {
   }
 
   /// I v = [Ī ω + h × v; m v − h × ω]  (momentum of a body moving with v).
-  Force<S> operator*(const Motion<S>& v) const { return Force<S>(I * v.w + h.cross(v.v), m * v.v - h.cross(v.w)); }
+  SPATIAL_INLINE Force<S> operator*(const Motion<S>& v) const {
+    using namespace detail;
+    return Force<S>(add3(mul(I, v.w), cross3(h, v.v)), sub3(scale3(m, v.v), cross3(h, v.w)));
+  }
 
-  Inertia& operator+=(const Inertia& o) { m += o.m; h += o.h; I += o.I; return *this; }
-  friend Inertia operator+(const Inertia& a, const Inertia& b) { return Inertia(a.m + b.m, a.h + b.h, a.I + b.I); }
+  SPATIAL_INLINE Inertia& operator+=(const Inertia& o) { m += o.m; h += o.h; I += o.I; return *this; }
+  friend SPATIAL_INLINE Inertia operator+(const Inertia& a, const Inertia& b) { return Inertia(a.m + b.m, a.h + b.h, a.I + b.I); }
 
   /// This inertia, given in A coordinates, expressed in B coordinates for X = ᴮX_A: X* I X⁻¹ (RBDA Table 2.8):
   /// (m, E(h − m r), E(Ī + r̃ h̃ + (h − m r)~ r̃) Eᵀ).
-  Inertia transformed(const Transform<S>& X) const {
+  SPATIAL_INLINE Inertia transformed(const Transform<S>& X) const {
     const Vector3<S> hmr = h - m * X.r;
     const Matrix3<S> rx = skew(X.r);
     const Matrix3<S> J = I + rx * skew(h) + skew(hmr) * rx;
     return Inertia(m, X.E * hmr, X.E * J * X.E.transpose());
   }
   /// This inertia, given in B coordinates, expressed in A coordinates for X = ᴮX_A: Xᵀ I X (RBDA eq. 2.66),
-  /// the step by which CRBA and ABA pass a child's inertia to its parent.
-  Inertia transformed_inverse(const Transform<S>& X) const {
-    // Rotate into A's orientation, then shift the origin by -r: (m, h' + m r, Ī' − r̃ h̃' − (h' + m r)~ r̃) ...
-    // written via the forward formula with the inverse transform.
-    return transformed(X.inverse());
+  /// the step by which CRBA passes a child's inertia to its parent. Rotate into A's axes (h′ = Eᵀh,
+  /// Ī′ = Eᵀ Ī E), then move the origin by −r: h = h′ + m r and, from Ī = Σ −mₖ p̃ₖ p̃ₖ with pₖ → pₖ + r,
+  /// Ī = Ī′ − (r̃ h̃′ + h̃′ r̃) − m r̃ r̃ = Ī′ − (r h′ᵀ + h′ rᵀ) + 2 (h′·r) 1 − m (r rᵀ − (r·r) 1).
+  SPATIAL_INLINE Inertia transformed_inverse(const Transform<S>& X) const {
+    using namespace detail;
+    const Vector3<S> hp = mul_t(X.E, h);
+    Matrix3<S> J = mul_tn(X.E, mul(I, X.E));
+    const Vector3<S>& r = X.r;
+    J -= sym_outer(r, hp);
+    J -= (m / S(2)) * sym_outer(r, r);
+    const S d = S(2) * dot3(hp, r) + m * dot3(r, r);
+    J(0, 0) += d;
+    J(1, 1) += d;
+    J(2, 2) += d;
+    return Inertia(m, add3(hp, scale3(m, r)), J);
   }
 
   /// [Ī h̃; h̃ᵀ m1] (tests, diagnostics and ABA's articulated inertias).
@@ -313,7 +409,7 @@ struct Inertia {
     return M;
   }
   template <class T>
-  Inertia<T> cast() const {
+  SPATIAL_INLINE Inertia<T> cast() const {
     return Inertia<T>(T(m), h.template cast<T>(), I.template cast<T>());
   }
 };
@@ -326,29 +422,29 @@ struct ArticulatedInertia {
   Matrix3<S> A, B, C;
 
   ArticulatedInertia() = default;
-  ArticulatedInertia(const Matrix3<S>& a, const Matrix3<S>& b, const Matrix3<S>& c) : A(a), B(b), C(c) {}
+  SPATIAL_INLINE ArticulatedInertia(const Matrix3<S>& a, const Matrix3<S>& b, const Matrix3<S>& c) : A(a), B(b), C(c) {}
   explicit ArticulatedInertia(const Inertia<S>& I) : A(I.I), B(skew(I.h)), C(I.m * Matrix3<S>::Identity()) {}
 
-  Force<S> operator*(const Motion<S>& v) const {
+  SPATIAL_INLINE Force<S> operator*(const Motion<S>& v) const {
     return Force<S>(A * v.w + B * v.v, B.transpose() * v.w + C * v.v);
   }
-  ArticulatedInertia& operator+=(const ArticulatedInertia& o) { A += o.A; B += o.B; C += o.C; return *this; }
+  SPATIAL_INLINE ArticulatedInertia& operator+=(const ArticulatedInertia& o) { A += o.A; B += o.B; C += o.C; return *this; }
   /// Subtract the rank-one term U Uᵀ / d (U a force vector).
-  void subtract_outer(const Force<S>& U, S inv_d) {
+  SPATIAL_INLINE void subtract_outer(const Force<S>& U, S inv_d) {
     A.noalias() -= (inv_d * U.n) * U.n.transpose();
     B.noalias() -= (inv_d * U.n) * U.f.transpose();
     C.noalias() -= (inv_d * U.f) * U.f.transpose();
   }
   /// Xᵀ M X for X = ᴮX_A, M given in B coordinates: the same inertia in A coordinates.
-  ArticulatedInertia transformed_inverse(const Transform<S>& X) const {
+  SPATIAL_INLINE ArticulatedInertia transformed_inverse(const Transform<S>& X) const {
     // Rotate: M' = diag(E,E)ᵀ M diag(E,E); then shift by xlt(r): [1 r̃; 0 1] M' [1 0; −r̃ 1].
-    const Matrix3<S> Et = X.E.transpose();
-    const Matrix3<S> a = Et * A * X.E, b = Et * B * X.E, c = Et * C * X.E;
+    using namespace detail;
+    const Matrix3<S> a = mul_tn(X.E, mul(A, X.E)), b = mul_tn(X.E, mul(B, X.E)), c = mul_tn(X.E, mul(C, X.E));
     const Matrix3<S> rx = skew(X.r);
-    const Matrix3<S> bl = b.transpose() - c * rx;  // lower-left block of the result
+    const Matrix3<S> bl = b.transpose() - mul(c, rx);  // lower-left block of the result
     ArticulatedInertia out;
-    out.A = a - b * rx + rx * bl;
-    out.B = b + rx * c;
+    out.A = a - mul(b, rx) + mul(rx, bl);
+    out.B = b + mul(rx, c);
     out.C = c;
     return out;
   }

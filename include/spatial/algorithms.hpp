@@ -55,6 +55,33 @@ void for_each_body_reverse(const Model<S, T>& model, F&& f) {
   }
 }
 
+namespace detail {
+template <class M, int J, class F>
+SPATIAL_INLINE void walk_up_static(const M& model, std::integral_constant<int, J> j, F& f) {
+  constexpr int P = M::tree_type::parent[J];
+  if constexpr (P >= 0) {
+    f(j, std::integral_constant<int, P>{});
+    walk_up_static(model, std::integral_constant<int, P>{}, f);
+  }
+}
+}  // namespace detail
+
+/// Largest compile-time tree whose ancestor walks are unrolled at compile time (each step then knows its joint's
+/// type); deeper trees walk up at run time, where each step switches on the joint type.
+inline constexpr int kMaxUnrolledWalk = 64;
+
+/// Calls f(j, λ(j)) for every step from body i up to the root: (i, λ(i)), (λ(i), λ(λ(i))), … For a compile-time
+/// index of a compile-time tree both arguments are `std::integral_constant`s.
+template <class S, class T, class I, class F>
+SPATIAL_INLINE void walk_up(const Model<S, T>& model, I i, F&& f) {
+  if constexpr (Model<S, T>::is_static && Model<S, T>::NB <= kMaxUnrolledWalk &&
+                !std::is_same_v<I, int>) {
+    detail::walk_up_static(model, i, f);
+  } else {
+    for (int j = i, p = model.parent(j); p >= 0; j = p, p = model.parent(p)) f(j, p);
+  }
+}
+
 /// No external forces (the default of `rnea` and `aba`).
 struct NoExternalForces {};
 
@@ -74,7 +101,7 @@ template <bool Base, class S, class T, class I, class Q>
 void update_transform(const Model<S, T>& model, Data<S, T>& data, I index, const Eigen::MatrixBase<Q>& q) {
   const int i = index;
   const auto k = static_cast<std::size_t>(i);
-  data.X_up[k] = model.joint(index).transform(S(q[i])) * model.tree_transform(i);
+  data.X_up[k] = model.joint(index).compose(S(q[i]), model.tree_transform(i));
   if constexpr (Base) {
     const int p = model.parent(index);
     data.X_base[k] = p >= 0 ? data.X_up[k] * data.X_base[static_cast<std::size_t>(p)] : data.X_up[k];
@@ -273,13 +300,13 @@ void crba_impl(const Model<S, T>& model, Data<S, T>& data) {
     const auto joint = model.joint(I);
     Force<S> F = data.Ic[static_cast<std::size_t>(i)] * joint.motion(S(1));
     data.H(i, i) = joint.project(F);
-    for (int j = i; model.parent(j) >= 0;) {
+    walk_up(model, I, [&](auto J, auto P) {
+      const int j = J, p = P;
       F = data.X_up[static_cast<std::size_t>(j)].apply_force_inverse(F);
-      j = model.parent(j);
-      const S hij = model.joint(j).project(F);
-      data.H(i, j) = hij;
-      data.H(j, i) = hij;
-    }
+      const S hip = model.joint(P).project(F);
+      data.H(i, p) = hip;
+      data.H(p, i) = hip;
+    });
   });
 }
 }  // namespace detail

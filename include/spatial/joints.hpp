@@ -53,45 +53,75 @@ namespace detail {
 // Revolute about coordinate axis K (0 = x, 1 = y, 2 = z).
 template <class S, int K>
 struct RevoluteAxisAligned {
-  static Transform<S> transform(S q) {
+  static SPATIAL_INLINE Transform<S> transform(S q) {
     if constexpr (K == 0) return rotx(q);
     else if constexpr (K == 1) return roty(q);
     else return rotz(q);
   }
-  static Motion<S> motion(S qd) {
+  static SPATIAL_INLINE Motion<S> motion(S qd) {
     Motion<S> m = Motion<S>::Zero();
     m.w[K] = qd;
     return m;
   }
-  static S project(const Force<S>& f) { return f.n[K]; }
+  static SPATIAL_INLINE S project(const Force<S>& f) { return f.n[K]; }
   /// Add S q̈ to a.
-  static void add_motion(Motion<S>& a, S qdd) { a.w[K] += qdd; }
+  static SPATIAL_INLINE void add_motion(Motion<S>& a, S qdd) { a.w[K] += qdd; }
   /// v × (S q̇) for this joint.
-  static Motion<S> cross_motion(const Motion<S>& v, S qd) {
-    // (v × e_K) with e_K angular: [ω × e_K; v × e_K] q̇
-    Vector3<S> e = Vector3<S>::Zero();
-    e[K] = qd;
-    return Motion<S>(v.w.cross(e), v.v.cross(e));
+  /// v × (S q̇) = [ω × e_K; v_O × e_K] q̇.
+  static SPATIAL_INLINE Motion<S> cross_motion(const Motion<S>& v, S qd) {
+    return Motion<S>(cross_axis(v.w, qd), cross_axis(v.v, qd));
+  }
+  /// X_J(q) X_T: rotating the tree transform's rows K+1, K+2 (mod 3) by the joint angle; r is unchanged.
+  static SPATIAL_INLINE Transform<S> compose(S q, const Transform<S>& XT) {
+    using std::cos;
+    using std::sin;
+    constexpr int i = (K + 1) % 3, j = (K + 2) % 3;
+    const S c = cos(q), s = sin(q);
+    Transform<S> X = XT;
+    for (int col = 0; col < 3; ++col) {
+      X.E(i, col) = c * XT.E(i, col) + s * XT.E(j, col);
+      X.E(j, col) = c * XT.E(j, col) - s * XT.E(i, col);
+    }
+    return X;
+  }
+  /// a × e_K s
+  static SPATIAL_INLINE Vector3<S> cross_axis(const Vector3<S>& a, S s) {
+    constexpr int i = (K + 1) % 3, j = (K + 2) % 3;
+    Vector3<S> out;
+    out[K] = S(0);
+    out[i] = a[j] * s;
+    out[j] = -a[i] * s;
+    return out;
   }
 };
 template <class S, int K>
 struct PrismaticAxisAligned {
-  static Transform<S> transform(S q) {
+  static SPATIAL_INLINE Transform<S> transform(S q) {
     Vector3<S> r = Vector3<S>::Zero();
     r[K] = q;
     return xlt(r);
   }
-  static Motion<S> motion(S qd) {
+  static SPATIAL_INLINE Motion<S> motion(S qd) {
     Motion<S> m = Motion<S>::Zero();
     m.v[K] = qd;
     return m;
   }
-  static S project(const Force<S>& f) { return f.f[K]; }
-  static void add_motion(Motion<S>& a, S qdd) { a.v[K] += qdd; }
-  static Motion<S> cross_motion(const Motion<S>& v, S qd) {
-    Vector3<S> e = Vector3<S>::Zero();
-    e[K] = qd;
-    return Motion<S>(Vector3<S>::Zero(), v.w.cross(e));
+  static SPATIAL_INLINE S project(const Force<S>& f) { return f.f[K]; }
+  static SPATIAL_INLINE void add_motion(Motion<S>& a, S qdd) { a.v[K] += qdd; }
+  /// v × (S q̇) = [0; ω × e_K] q̇.
+  static SPATIAL_INLINE Motion<S> cross_motion(const Motion<S>& v, S qd) {
+    constexpr int i = (K + 1) % 3, j = (K + 2) % 3;
+    Vector3<S> lin;
+    lin[K] = S(0);
+    lin[i] = v.w[j] * qd;
+    lin[j] = -v.w[i] * qd;
+    return Motion<S>(Vector3<S>::Zero(), lin);
+  }
+  /// X_J(q) X_T = xlt(q e_K) X_T: r = r_T + q E_Tᵀ e_K (row K of E_T); E unchanged.
+  static SPATIAL_INLINE Transform<S> compose(S q, const Transform<S>& XT) {
+    Transform<S> X = XT;
+    for (int col = 0; col < 3; ++col) X.r[col] += q * XT.E(K, col);
+    return X;
   }
 };
 }  // namespace detail
@@ -118,11 +148,12 @@ struct Joint<S, JointType::RevoluteAxis> {
   Vector3<S> axis;
   Joint() = default;
   explicit Joint(const Vector3<S>& a) : axis(a) {}
-  Transform<S> transform(S q) const { return Transform<S>(rot_axis_matrix(axis, q), Vector3<S>::Zero()); }
-  Motion<S> motion(S qd) const { return Motion<S>(axis * qd, Vector3<S>::Zero()); }
-  S project(const Force<S>& f) const { return axis.dot(f.n); }
-  void add_motion(Motion<S>& a, S qdd) const { a.w += axis * qdd; }
-  Motion<S> cross_motion(const Motion<S>& v, S qd) const {
+  SPATIAL_INLINE Transform<S> transform(S q) const { return Transform<S>(rot_axis_matrix(axis, q), Vector3<S>::Zero()); }
+  SPATIAL_INLINE Motion<S> motion(S qd) const { return Motion<S>(axis * qd, Vector3<S>::Zero()); }
+  SPATIAL_INLINE S project(const Force<S>& f) const { return axis.dot(f.n); }
+  SPATIAL_INLINE Transform<S> compose(S q, const Transform<S>& XT) const { return transform(q) * XT; }
+  SPATIAL_INLINE void add_motion(Motion<S>& a, S qdd) const { a.w += axis * qdd; }
+  SPATIAL_INLINE Motion<S> cross_motion(const Motion<S>& v, S qd) const {
     const Vector3<S> e = axis * qd;
     return Motion<S>(v.w.cross(e), v.v.cross(e));
   }
@@ -135,11 +166,12 @@ struct Joint<S, JointType::PrismaticAxis> {
   Vector3<S> axis;
   Joint() = default;
   explicit Joint(const Vector3<S>& a) : axis(a) {}
-  Transform<S> transform(S q) const { return xlt<S>(axis * q); }
-  Motion<S> motion(S qd) const { return Motion<S>(Vector3<S>::Zero(), axis * qd); }
-  S project(const Force<S>& f) const { return axis.dot(f.f); }
-  void add_motion(Motion<S>& a, S qdd) const { a.v += axis * qdd; }
-  Motion<S> cross_motion(const Motion<S>& v, S qd) const {
+  SPATIAL_INLINE Transform<S> transform(S q) const { return xlt<S>(axis * q); }
+  SPATIAL_INLINE Motion<S> motion(S qd) const { return Motion<S>(Vector3<S>::Zero(), axis * qd); }
+  SPATIAL_INLINE S project(const Force<S>& f) const { return axis.dot(f.f); }
+  SPATIAL_INLINE Transform<S> compose(S q, const Transform<S>& XT) const { return transform(q) * XT; }
+  SPATIAL_INLINE void add_motion(Motion<S>& a, S qdd) const { a.v += axis * qdd; }
+  SPATIAL_INLINE Motion<S> cross_motion(const Motion<S>& v, S qd) const {
     return Motion<S>(Vector3<S>::Zero(), v.w.cross(axis * qd));
   }
 };
@@ -165,11 +197,14 @@ struct RuntimeJoint {
     }
     return f(Joint<S, JointType::PrismaticAxis>(axis));
   }
-  Transform<S> transform(S q) const { return visit([&](const auto& j) { return j.transform(q); }); }
-  Motion<S> motion(S qd) const { return visit([&](const auto& j) { return j.motion(qd); }); }
-  S project(const Force<S>& f) const { return visit([&](const auto& j) { return j.project(f); }); }
-  void add_motion(Motion<S>& a, S qdd) const { visit([&](const auto& j) { j.add_motion(a, qdd); }); }
-  Motion<S> cross_motion(const Motion<S>& v, S qd) const {
+  SPATIAL_INLINE Transform<S> transform(S q) const { return visit([&](const auto& j) { return j.transform(q); }); }
+  SPATIAL_INLINE Transform<S> compose(S q, const Transform<S>& XT) const {
+    return visit([&](const auto& j) { return j.compose(q, XT); });
+  }
+  SPATIAL_INLINE Motion<S> motion(S qd) const { return visit([&](const auto& j) { return j.motion(qd); }); }
+  SPATIAL_INLINE S project(const Force<S>& f) const { return visit([&](const auto& j) { return j.project(f); }); }
+  SPATIAL_INLINE void add_motion(Motion<S>& a, S qdd) const { visit([&](const auto& j) { j.add_motion(a, qdd); }); }
+  SPATIAL_INLINE Motion<S> cross_motion(const Motion<S>& v, S qd) const {
     return visit([&](const auto& j) { return j.cross_motion(v, qd); });
   }
 };
