@@ -314,13 +314,22 @@ SPATIAL_INLINE Matrix3<S> rotz_matrix(S theta) {
   e << c, s, S(0), -s, c, S(0), S(0), S(0), S(1);
   return e;
 }
-/// Passive rotation by θ about the unit axis a: E = cosθ·1 + (1 − cosθ) a aᵀ − sinθ ã  (transpose of Rodrigues).
+/// Passive rotation by θ about the unit axis a: E = cosθ·1 + (1 − cosθ) a aᵀ − sinθ ã  (transpose of Rodrigues),
+/// from c = cos θ and s = sin θ.
+template <class S>
+SPATIAL_INLINE Matrix3<S> rot_axis_matrix_cs(const Vector3<S>& a, S c, S s) {
+  const S t = S(1) - c;
+  Matrix3<S> E;
+  E << c + t * a[0] * a[0], t * a[0] * a[1] + s * a[2], t * a[0] * a[2] - s * a[1],  //
+      t * a[1] * a[0] - s * a[2], c + t * a[1] * a[1], t * a[1] * a[2] + s * a[0],   //
+      t * a[2] * a[0] + s * a[1], t * a[2] * a[1] - s * a[0], c + t * a[2] * a[2];
+  return E;
+}
 template <class S>
 SPATIAL_INLINE Matrix3<S> rot_axis_matrix(const Vector3<S>& a, S theta) {
   using std::cos;
   using std::sin;
-  const S c = cos(theta), s = sin(theta);
-  return c * Matrix3<S>::Identity() + (S(1) - c) * a * a.transpose() - s * skew(a);
+  return rot_axis_matrix_cs(a, S(cos(theta)), S(sin(theta)));
 }
 
 /// The frame rotated by θ about x (RBDA eq. 2.20, `rotx` in spatial_v2).

@@ -10,6 +10,7 @@
 #include "spatial/algebra.hpp"
 #include "spatial/joints.hpp"
 #include "spatial/model.hpp"
+#include "spatial/sincos.hpp"
 
 #include <type_traits>
 #include <utility>
@@ -96,12 +97,18 @@ enum RneaTerms : unsigned {
 template <class Ext>
 inline constexpr bool has_external_v = !std::is_same_v<std::decay_t<Ext>, NoExternalForces>;
 
-/// ⁱX_λ(i) = X_J(qᵢ) X_T(i) (RBDA eq. 4.11), and ⁱX_0 when asked.
+/// cos qᵢ and sin qᵢ of every joint into `data` (before any `update_transform`).
+template <class S, class T, class Q>
+SPATIAL_INLINE void joint_sincos(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q) {
+  sincos_all<S>(q, data.cos_q, data.sin_q, model.size());
+}
+
+/// ⁱX_λ(i) = X_J(qᵢ) X_T(i) (RBDA eq. 4.11), and ⁱX_0 when asked; needs `joint_sincos` first.
 template <bool Base, class S, class T, class I, class Q>
 void update_transform(const Model<S, T>& model, Data<S, T>& data, I index, const Eigen::MatrixBase<Q>& q) {
   const int i = index;
   const auto k = static_cast<std::size_t>(i);
-  data.X_up[k] = model.joint(index).compose(S(q[i]), model.tree_transform(i));
+  data.X_up[k] = model.joint(index).compose(S(q[i]), data.cos_q[i], data.sin_q[i], model.tree_transform(i));
   if constexpr (Base) {
     const int p = model.parent(index);
     data.X_base[k] = p >= 0 ? data.X_up[k] * data.X_base[static_cast<std::size_t>(p)] : data.X_up[k];
@@ -122,6 +129,7 @@ void rnea_impl(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBa
   constexpr bool X = has_external_v<Ext>;
   const bool base_frame = X && frame == ForceFrame::Base;
   const Motion<S> a0 = -model.gravity_motion();
+  joint_sincos(model, data, q);
 
   for_each_body(model, [&](auto I) {
     const int i = I;
@@ -205,6 +213,7 @@ const typename Data<S, T>::VectorN& gravity_torques(const Model<S, T>& model, Da
 /// ⁱX_0 = (E, r), r is body i's origin in base coordinates and Eᵀ its orientation (body axes in base coordinates).
 template <class S, class T, class Q>
 void forward_kinematics(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q) {
+  detail::joint_sincos(model, data, q);
   for_each_body(model, [&](auto I) { detail::update_transform<true>(model, data, I, q); });
 }
 
@@ -234,6 +243,7 @@ Eigen::Transform<S, 3, Eigen::Isometry> frame_pose(const Model<S, T>& model, con
 template <class S, class T, class Q, class QD>
 void forward_velocities(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q,
                         const Eigen::MatrixBase<QD>& qd) {
+  detail::joint_sincos(model, data, q);
   for_each_body(model, [&](auto I) {
     const int i = I;
     const auto k = static_cast<std::size_t>(i);
@@ -316,6 +326,7 @@ void crba_impl(const Model<S, T>& model, Data<S, T>& data) {
 /// zeroed when `data` was built). Returns `data.H`.
 template <class S, class T, class Q>
 const typename Data<S, T>::MatrixN& crba(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q) {
+  detail::joint_sincos(model, data, q);
   for_each_body(model, [&](auto I) { detail::update_transform<false>(model, data, I, q); });
   detail::crba_impl(model, data);
   return data.H;
@@ -388,6 +399,7 @@ const typename Data<S, T>::VectorN& aba(const Model<S, T>& model, Data<S, T>& da
                                         const Ext& fext = Ext(), ForceFrame frame = ForceFrame::Body) {
   constexpr bool X = detail::has_external_v<Ext>;
   const bool base_frame = X && frame == ForceFrame::Base;
+  detail::joint_sincos(model, data, q);
   for_each_body(model, [&](auto I) {
     const int i = I;
     const auto k = static_cast<std::size_t>(i);

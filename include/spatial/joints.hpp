@@ -2,6 +2,8 @@
 /// \file joints.hpp
 /// One-degree-of-freedom joints (RBDA §4.4, Table 4.1). Each joint model gives
 ///  - `transform(q)`: the joint transform X_J(q) from the joint's predecessor frame to the successor (body) frame;
+///  - `compose(q, cos q, sin q, X_T)`: X_J(q) X_T, specialised per joint (the sines and cosines of all joints are
+///    computed together beforehand, see sincos.hpp);
 ///  - `motion(qd)`: S q̇, the joint velocity in body coordinates (S is constant in body coordinates, so Ṡ = v × S);
 ///  - `project(f)`: Sᵀ f, the component of a body-coordinate force along the joint's motion subspace.
 /// The axis-aligned joints are separate types so that each costs only what its axis needs: a revolute joint
@@ -71,12 +73,10 @@ struct RevoluteAxisAligned {
   static SPATIAL_INLINE Motion<S> cross_motion(const Motion<S>& v, S qd) {
     return Motion<S>(cross_axis(v.w, qd), cross_axis(v.v, qd));
   }
-  /// X_J(q) X_T: rotating the tree transform's rows K+1, K+2 (mod 3) by the joint angle; r is unchanged.
-  static SPATIAL_INLINE Transform<S> compose(S q, const Transform<S>& XT) {
-    using std::cos;
-    using std::sin;
+  /// X_J(q) X_T from c = cos q, s = sin q: rotating the tree transform's rows K+1, K+2 (mod 3) by the joint
+  /// angle; r is unchanged.
+  static SPATIAL_INLINE Transform<S> compose(S /*q*/, S c, S s, const Transform<S>& XT) {
     constexpr int i = (K + 1) % 3, j = (K + 2) % 3;
-    const S c = cos(q), s = sin(q);
     Transform<S> X = XT;
     for (int col = 0; col < 3; ++col) {
       X.E(i, col) = c * XT.E(i, col) + s * XT.E(j, col);
@@ -118,7 +118,7 @@ struct PrismaticAxisAligned {
     return Motion<S>(Vector3<S>::Zero(), lin);
   }
   /// X_J(q) X_T = xlt(q e_K) X_T: r = r_T + q E_Tᵀ e_K (row K of E_T); E unchanged.
-  static SPATIAL_INLINE Transform<S> compose(S q, const Transform<S>& XT) {
+  static SPATIAL_INLINE Transform<S> compose(S q, S /*c*/, S /*s*/, const Transform<S>& XT) {
     Transform<S> X = XT;
     for (int col = 0; col < 3; ++col) X.r[col] += q * XT.E(K, col);
     return X;
@@ -151,7 +151,9 @@ struct Joint<S, JointType::RevoluteAxis> {
   SPATIAL_INLINE Transform<S> transform(S q) const { return Transform<S>(rot_axis_matrix(axis, q), Vector3<S>::Zero()); }
   SPATIAL_INLINE Motion<S> motion(S qd) const { return Motion<S>(axis * qd, Vector3<S>::Zero()); }
   SPATIAL_INLINE S project(const Force<S>& f) const { return axis.dot(f.n); }
-  SPATIAL_INLINE Transform<S> compose(S q, const Transform<S>& XT) const { return transform(q) * XT; }
+  SPATIAL_INLINE Transform<S> compose(S /*q*/, S c, S s, const Transform<S>& XT) const {
+    return Transform<S>(rot_axis_matrix_cs(axis, c, s), Vector3<S>::Zero()) * XT;
+  }
   SPATIAL_INLINE void add_motion(Motion<S>& a, S qdd) const { a.w += axis * qdd; }
   SPATIAL_INLINE Motion<S> cross_motion(const Motion<S>& v, S qd) const {
     const Vector3<S> e = axis * qd;
@@ -169,7 +171,9 @@ struct Joint<S, JointType::PrismaticAxis> {
   SPATIAL_INLINE Transform<S> transform(S q) const { return xlt<S>(axis * q); }
   SPATIAL_INLINE Motion<S> motion(S qd) const { return Motion<S>(Vector3<S>::Zero(), axis * qd); }
   SPATIAL_INLINE S project(const Force<S>& f) const { return axis.dot(f.f); }
-  SPATIAL_INLINE Transform<S> compose(S q, const Transform<S>& XT) const { return transform(q) * XT; }
+  SPATIAL_INLINE Transform<S> compose(S q, S /*c*/, S /*s*/, const Transform<S>& XT) const {
+    return xlt<S>(axis * q) * XT;
+  }
   SPATIAL_INLINE void add_motion(Motion<S>& a, S qdd) const { a.v += axis * qdd; }
   SPATIAL_INLINE Motion<S> cross_motion(const Motion<S>& v, S qd) const {
     return Motion<S>(Vector3<S>::Zero(), v.w.cross(axis * qd));
@@ -198,8 +202,8 @@ struct RuntimeJoint {
     return f(Joint<S, JointType::PrismaticAxis>(axis));
   }
   SPATIAL_INLINE Transform<S> transform(S q) const { return visit([&](const auto& j) { return j.transform(q); }); }
-  SPATIAL_INLINE Transform<S> compose(S q, const Transform<S>& XT) const {
-    return visit([&](const auto& j) { return j.compose(q, XT); });
+  SPATIAL_INLINE Transform<S> compose(S q, S c, S s, const Transform<S>& XT) const {
+    return visit([&](const auto& j) { return j.compose(q, c, s, XT); });
   }
   SPATIAL_INLINE Motion<S> motion(S qd) const { return visit([&](const auto& j) { return j.motion(qd); }); }
   SPATIAL_INLINE S project(const Force<S>& f) const { return visit([&](const auto& j) { return j.project(f); }); }

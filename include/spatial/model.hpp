@@ -433,6 +433,8 @@ struct Data {
     tau = VectorN::Zero(n);
     qdd = VectorN::Zero(n);
     tmp = VectorN::Zero(n);
+    cos_q = VectorN::Zero(n);
+    sin_q = VectorN::Zero(n);
     H = MatrixN::Zero(n, n);
     L = MatrixN::Zero(n, n);
   }
@@ -452,6 +454,7 @@ struct Data {
   VectorN tau;                   ///< joint forces (RNEA output)
   VectorN qdd;                   ///< joint accelerations (forward dynamics output)
   VectorN tmp;                   ///< scratch: right-hand side of forward dynamics by CRBA
+  VectorN cos_q, sin_q;          ///< cos qᵢ and sin qᵢ of the last configuration whose transforms were computed
   MatrixN H;                     ///< joint-space inertia (CRBA output); only ancestor–descendant entries non-zero
   MatrixN L;                     ///< LTDL factor of H: unit L below the diagonal, D on the diagonal
 };

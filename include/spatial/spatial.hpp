@@ -6,4 +6,5 @@
 #include "spatial/algebra.hpp"
 #include "spatial/joints.hpp"
 #include "spatial/model.hpp"
+#include "spatial/sincos.hpp"
 #include "spatial/algorithms.hpp"
