@@ -25,6 +25,13 @@
 #define SPATIAL_INLINE inline
 #endif
 
+/// Fully unrolls the fixed 3-trip loops of the 3×3 kernels (GCC does not always do it by itself).
+#if defined(__clang__) || defined(__GNUC__)
+#define SPATIAL_UNROLL _Pragma("GCC unroll 3")
+#else
+#define SPATIAL_UNROLL
+#endif
+
 namespace spatial {
 
 template <class S>
@@ -87,24 +94,58 @@ SPATIAL_INLINE S dot3(const Vector3<S>& a, const Vector3<S>& b) {
 template <class S>
 SPATIAL_INLINE Matrix3<S> mul(const Matrix3<S>& A, const Matrix3<S>& B) {
   Matrix3<S> C;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) C(i, j) = A(i, 0) * B(0, j) + A(i, 1) * B(1, j) + A(i, 2) * B(2, j);
+  SPATIAL_UNROLL for (int i = 0; i < 3; ++i)
+    SPATIAL_UNROLL for (int j = 0; j < 3; ++j) C(i, j) = A(i, 0) * B(0, j) + A(i, 1) * B(1, j) + A(i, 2) * B(2, j);
   return C;
 }
 /// Aᵀ B
 template <class S>
 SPATIAL_INLINE Matrix3<S> mul_tn(const Matrix3<S>& A, const Matrix3<S>& B) {
   Matrix3<S> C;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) C(i, j) = A(0, i) * B(0, j) + A(1, i) * B(1, j) + A(2, i) * B(2, j);
+  SPATIAL_UNROLL for (int i = 0; i < 3; ++i)
+    SPATIAL_UNROLL for (int j = 0; j < 3; ++j) C(i, j) = A(0, i) * B(0, j) + A(1, i) * B(1, j) + A(2, i) * B(2, j);
+  return C;
+}
+/// Eᵀ M E for symmetric M (the result is exactly symmetric).
+template <class S>
+SPATIAL_INLINE Matrix3<S> sym_congruence(const Matrix3<S>& E, const Matrix3<S>& M) {
+  const Matrix3<S> T = mul(M, E);
+  Matrix3<S> C;
+  SPATIAL_UNROLL for (int i = 0; i < 3; ++i)
+    SPATIAL_UNROLL for (int j = i; j < 3; ++j) {
+      C(i, j) = E(0, i) * T(0, j) + E(1, i) * T(1, j) + E(2, i) * T(2, j);
+      C(j, i) = C(i, j);
+    }
+  return C;
+}
+/// M r̃: row i is (row i of M) × r.
+template <class S>
+SPATIAL_INLINE Matrix3<S> mul_skew(const Matrix3<S>& M, const Vector3<S>& r) {
+  Matrix3<S> C;
+  SPATIAL_UNROLL for (int i = 0; i < 3; ++i) {
+    C(i, 0) = M(i, 1) * r[2] - M(i, 2) * r[1];
+    C(i, 1) = M(i, 2) * r[0] - M(i, 0) * r[2];
+    C(i, 2) = M(i, 0) * r[1] - M(i, 1) * r[0];
+  }
+  return C;
+}
+/// r̃ M: column j is r × (column j of M).
+template <class S>
+SPATIAL_INLINE Matrix3<S> skew_mul(const Vector3<S>& r, const Matrix3<S>& M) {
+  Matrix3<S> C;
+  SPATIAL_UNROLL for (int j = 0; j < 3; ++j) {
+    C(0, j) = r[1] * M(2, j) - r[2] * M(1, j);
+    C(1, j) = r[2] * M(0, j) - r[0] * M(2, j);
+    C(2, j) = r[0] * M(1, j) - r[1] * M(0, j);
+  }
   return C;
 }
 /// a bᵀ + b aᵀ
 template <class S>
 SPATIAL_INLINE Matrix3<S> sym_outer(const Vector3<S>& a, const Vector3<S>& b) {
   Matrix3<S> C;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) C(i, j) = a[i] * b[j] + b[i] * a[j];
+  SPATIAL_UNROLL for (int i = 0; i < 3; ++i)
+    SPATIAL_UNROLL for (int j = 0; j < 3; ++j) C(i, j) = a[i] * b[j] + b[i] * a[j];
   return C;
 }
 }  // namespace detail
@@ -435,25 +476,42 @@ struct ArticulatedInertia {
   explicit ArticulatedInertia(const Inertia<S>& I) : A(I.I), B(skew(I.h)), C(I.m * Matrix3<S>::Identity()) {}
 
   SPATIAL_INLINE Force<S> operator*(const Motion<S>& v) const {
-    return Force<S>(A * v.w + B * v.v, B.transpose() * v.w + C * v.v);
+    using namespace detail;
+    return Force<S>(add3(mul(A, v.w), mul(B, v.v)), add3(mul_t(B, v.w), mul(C, v.v)));
   }
-  SPATIAL_INLINE ArticulatedInertia& operator+=(const ArticulatedInertia& o) { A += o.A; B += o.B; C += o.C; return *this; }
+  SPATIAL_INLINE ArticulatedInertia& operator+=(const ArticulatedInertia& o) {
+    SPATIAL_UNROLL for (int i = 0; i < 3; ++i)
+      SPATIAL_UNROLL for (int j = 0; j < 3; ++j) {
+        A(i, j) += o.A(i, j);
+        B(i, j) += o.B(i, j);
+        C(i, j) += o.C(i, j);
+      }
+    return *this;
+  }
   /// Subtract the rank-one term U Uᵀ / d (U a force vector).
   SPATIAL_INLINE void subtract_outer(const Force<S>& U, S inv_d) {
-    A.noalias() -= (inv_d * U.n) * U.n.transpose();
-    B.noalias() -= (inv_d * U.n) * U.f.transpose();
-    C.noalias() -= (inv_d * U.f) * U.f.transpose();
+    SPATIAL_UNROLL for (int i = 0; i < 3; ++i) {
+      const S ni = inv_d * U.n[i], fi = inv_d * U.f[i];
+      SPATIAL_UNROLL for (int j = 0; j < 3; ++j) {
+        A(i, j) -= ni * U.n[j];
+        B(i, j) -= ni * U.f[j];
+        C(i, j) -= fi * U.f[j];
+      }
+    }
   }
   /// Xᵀ M X for X = ᴮX_A, M given in B coordinates: the same inertia in A coordinates.
+  /// Rotate, M′ = diag(E, E)ᵀ M diag(E, E) = [a b; bᵀ c], then shift by xlt(r):
+  /// [1 r̃; 0 1] M′ [1 0; −r̃ 1] = [a − b r̃ − (b r̃)ᵀ − r̃ c r̃,  b − (c r̃)ᵀ;  …,  c], using r̃ᵀ = −r̃ and c = cᵀ.
   SPATIAL_INLINE ArticulatedInertia transformed_inverse(const Transform<S>& X) const {
-    // Rotate: M' = diag(E,E)ᵀ M diag(E,E); then shift by xlt(r): [1 r̃; 0 1] M' [1 0; −r̃ 1].
     using namespace detail;
-    const Matrix3<S> a = mul_tn(X.E, mul(A, X.E)), b = mul_tn(X.E, mul(B, X.E)), c = mul_tn(X.E, mul(C, X.E));
-    const Matrix3<S> rx = skew(X.r);
-    const Matrix3<S> bl = b.transpose() - mul(c, rx);  // lower-left block of the result
+    const Matrix3<S> a = sym_congruence(X.E, A), b = mul_tn(X.E, mul(B, X.E)), c = sym_congruence(X.E, C);
+    const Matrix3<S> br = mul_skew(b, X.r), cr = mul_skew(c, X.r), rcr = skew_mul(X.r, cr);
     ArticulatedInertia out;
-    out.A = a - mul(b, rx) + mul(rx, bl);
-    out.B = b + mul(rx, c);
+    SPATIAL_UNROLL for (int i = 0; i < 3; ++i)
+      SPATIAL_UNROLL for (int j = 0; j < 3; ++j) {
+        out.A(i, j) = a(i, j) - br(i, j) - br(j, i) - rcr(i, j);
+        out.B(i, j) = b(i, j) - cr(j, i);
+      }
     out.C = c;
     return out;
   }

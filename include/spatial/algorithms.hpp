@@ -308,7 +308,7 @@ void crba_impl(const Model<S, T>& model, Data<S, T>& data) {
   for_each_body(model, [&](auto I) {
     const int i = I;
     const auto joint = model.joint(I);
-    Force<S> F = data.Ic[static_cast<std::size_t>(i)] * joint.motion(S(1));
+    Force<S> F = joint.apply_inertia(data.Ic[static_cast<std::size_t>(i)]);
     data.H(i, i) = joint.project(F);
     walk_up(model, I, [&](auto J, auto P) {
       const int j = J, p = P;
@@ -423,7 +423,7 @@ const typename Data<S, T>::VectorN& aba(const Model<S, T>& model, Data<S, T>& da
     const auto k = static_cast<std::size_t>(i);
     const int p = model.parent(I);
     const auto joint = model.joint(I);
-    data.U[k] = data.IA[k] * joint.motion(S(1));
+    data.U[k] = joint.apply_inertia(data.IA[k]);
     data.Dinv[k] = S(1) / joint.project(data.U[k]);
     data.u[k] = S(tau[i]) - joint.project(data.pA[k]);
     if (p >= 0) {

@@ -5,7 +5,8 @@
 ///  - `compose(q, cos q, sin q, X_T)`: X_J(q) X_T, specialised per joint (the sines and cosines of all joints are
 ///    computed together beforehand, see sincos.hpp);
 ///  - `motion(qd)`: S q̇, the joint velocity in body coordinates (S is constant in body coordinates, so Ṡ = v × S);
-///  - `project(f)`: Sᵀ f, the component of a body-coordinate force along the joint's motion subspace.
+///  - `project(f)`: Sᵀ f, the component of a body-coordinate force along the joint's motion subspace;
+///  - `apply_inertia(I)`: I S for a rigid-body or articulated inertia I (a column of I for axis-aligned joints).
 /// The axis-aligned joints are separate types so that each costs only what its axis needs: a revolute joint
 /// about z is one sine, one cosine and a few multiplies, and its S q̇ has one non-zero entry.
 
@@ -78,11 +79,24 @@ struct RevoluteAxisAligned {
   static SPATIAL_INLINE Transform<S> compose(S /*q*/, S c, S s, const Transform<S>& XT) {
     constexpr int i = (K + 1) % 3, j = (K + 2) % 3;
     Transform<S> X = XT;
-    for (int col = 0; col < 3; ++col) {
+    SPATIAL_UNROLL for (int col = 0; col < 3; ++col) {
       X.E(i, col) = c * XT.E(i, col) + s * XT.E(j, col);
       X.E(j, col) = c * XT.E(j, col) - s * XT.E(i, col);
     }
     return X;
+  }
+  /// I S = [Ī e_K; e_K × h]: column K of the rigid-body inertia.
+  static SPATIAL_INLINE Force<S> apply_inertia(const Inertia<S>& I) {
+    constexpr int i = (K + 1) % 3, j = (K + 2) % 3;
+    Vector3<S> f;
+    f[K] = S(0);
+    f[i] = -I.h[j];
+    f[j] = I.h[i];
+    return Force<S>(I.I.col(K), f);
+  }
+  /// Iᴬ S = [A e_K; Bᵀ e_K].
+  static SPATIAL_INLINE Force<S> apply_inertia(const ArticulatedInertia<S>& I) {
+    return Force<S>(I.A.col(K), I.B.row(K).transpose());
   }
   /// a × e_K s
   static SPATIAL_INLINE Vector3<S> cross_axis(const Vector3<S>& a, S s) {
@@ -117,10 +131,24 @@ struct PrismaticAxisAligned {
     lin[j] = -v.w[i] * qd;
     return Motion<S>(Vector3<S>::Zero(), lin);
   }
+  /// I S = [h × e_K; m e_K].
+  static SPATIAL_INLINE Force<S> apply_inertia(const Inertia<S>& I) {
+    constexpr int i = (K + 1) % 3, j = (K + 2) % 3;
+    Vector3<S> n, f = Vector3<S>::Zero();
+    n[K] = S(0);
+    n[i] = I.h[j];
+    n[j] = -I.h[i];
+    f[K] = I.m;
+    return Force<S>(n, f);
+  }
+  /// Iᴬ S = [B e_K; C e_K].
+  static SPATIAL_INLINE Force<S> apply_inertia(const ArticulatedInertia<S>& I) {
+    return Force<S>(I.B.col(K), I.C.col(K));
+  }
   /// X_J(q) X_T = xlt(q e_K) X_T: r = r_T + q E_Tᵀ e_K (row K of E_T); E unchanged.
   static SPATIAL_INLINE Transform<S> compose(S q, S /*c*/, S /*s*/, const Transform<S>& XT) {
     Transform<S> X = XT;
-    for (int col = 0; col < 3; ++col) X.r[col] += q * XT.E(K, col);
+    SPATIAL_UNROLL for (int col = 0; col < 3; ++col) X.r[col] += q * XT.E(K, col);
     return X;
   }
 };
@@ -151,6 +179,8 @@ struct Joint<S, JointType::RevoluteAxis> {
   SPATIAL_INLINE Transform<S> transform(S q) const { return Transform<S>(rot_axis_matrix(axis, q), Vector3<S>::Zero()); }
   SPATIAL_INLINE Motion<S> motion(S qd) const { return Motion<S>(axis * qd, Vector3<S>::Zero()); }
   SPATIAL_INLINE S project(const Force<S>& f) const { return axis.dot(f.n); }
+  template <class In>
+  SPATIAL_INLINE Force<S> apply_inertia(const In& I) const { return I * motion(S(1)); }
   SPATIAL_INLINE Transform<S> compose(S /*q*/, S c, S s, const Transform<S>& XT) const {
     return Transform<S>(rot_axis_matrix_cs(axis, c, s), Vector3<S>::Zero()) * XT;
   }
@@ -171,6 +201,8 @@ struct Joint<S, JointType::PrismaticAxis> {
   SPATIAL_INLINE Transform<S> transform(S q) const { return xlt<S>(axis * q); }
   SPATIAL_INLINE Motion<S> motion(S qd) const { return Motion<S>(Vector3<S>::Zero(), axis * qd); }
   SPATIAL_INLINE S project(const Force<S>& f) const { return axis.dot(f.f); }
+  template <class In>
+  SPATIAL_INLINE Force<S> apply_inertia(const In& I) const { return I * motion(S(1)); }
   SPATIAL_INLINE Transform<S> compose(S q, S /*c*/, S /*s*/, const Transform<S>& XT) const {
     return xlt<S>(axis * q) * XT;
   }
@@ -207,6 +239,10 @@ struct RuntimeJoint {
   }
   SPATIAL_INLINE Motion<S> motion(S qd) const { return visit([&](const auto& j) { return j.motion(qd); }); }
   SPATIAL_INLINE S project(const Force<S>& f) const { return visit([&](const auto& j) { return j.project(f); }); }
+  template <class In>
+  SPATIAL_INLINE Force<S> apply_inertia(const In& I) const {
+    return visit([&](const auto& j) { return j.apply_inertia(I); });
+  }
   SPATIAL_INLINE void add_motion(Motion<S>& a, S qdd) const { visit([&](const auto& j) { j.add_motion(a, qdd); }); }
   SPATIAL_INLINE Motion<S> cross_motion(const Motion<S>& v, S qd) const {
     return visit([&](const auto& j) { return j.cross_motion(v, qd); });
