@@ -115,8 +115,8 @@ struct JointInfo {
 struct LinkInfo {
   std::string name;
   int body = -1;         ///< model body (−1: the fixed base)
-  Transform<double> X;   ///< ˡX_body: from the body's coordinates to the link's (identity when the body frame is
-                         ///< the link frame)
+  /// ˡX_body: from the body's coordinates to the link's (identity when the body frame is the link frame).
+  Transform<double> X = Transform<double>::Identity();
   bool moving = false;   ///< the link is the one its body's joint moves (otherwise it was merged)
 };
 
@@ -618,6 +618,16 @@ inline LoadedModel build(const Description& d, const LoadOptions& opt, const std
   return out;
 }
 
+/// urdfdom links each link to its children with shared pointers, so a file with a loop makes a cycle that is never
+/// freed. Cutting those links frees a model the loader owns.
+inline void cut_cycles(urdf::ModelInterface& model) {
+  for (auto& entry : model.links_)
+    if (entry.second) {
+      entry.second->child_links.clear();
+      entry.second->child_joints.clear();
+    }
+}
+
 inline urdf::ModelInterfaceSharedPtr parse(const std::string& xml, const std::string& source) {
   urdf::ModelInterfaceSharedPtr m;
   std::vector<std::string> errors;
@@ -633,6 +643,7 @@ inline urdf::ModelInterfaceSharedPtr parse(const std::string& xml, const std::st
   }
   if (!thrown.empty()) errors.push_back(thrown);
   if (!m || !errors.empty()) {
+    if (m) cut_cycles(*m);
     std::string msg = "not a valid URDF";
     for (std::size_t i = 0; i < errors.size(); ++i) msg += (i == 0 ? ": " : "; ") + errors[i];
     if (errors.empty()) msg += " (urdfdom gave no reason)";
@@ -655,6 +666,10 @@ inline LoadedModel load_model(const urdf::ModelInterface& urdf, const LoadOption
 inline LoadedModel load_string(const std::string& xml, const LoadOptions& options = {},
                                const std::string& source_name = "<string>") {
   const urdf::ModelInterfaceSharedPtr m = detail::parse(xml, source_name);
+  struct CutCycles {  // we own this model: free it whatever happens
+    urdf::ModelInterface& model;
+    ~CutCycles() { detail::cut_cycles(model); }
+  } cut{*m};
   const detail::Description d = detail::describe(*m, detail::joint_document_order(xml), source_name);
   return detail::build(d, options, source_name);
 }
