@@ -7,8 +7,6 @@
 #   - spatial_urdf (alias spatial::urdf, exported as spatial::urdf): INTERFACE, links spatial::spatial and
 #     urdfdom::urdfdom_model (whose interface brings console_bridge, urdfdom_headers and tinyxml, which urdf.hpp
 #     also uses directly);
-#   - spatial_urdf_test_definitions(<target>): gives a test target SPATIAL_SOURCE_DIR (the tests find urdf/ with
-#     it) -- call it for spatial_tests and spatial_kdl_tests;
 #   - update_double_pendulum (custom target, not built by default): regenerates urdf/double_pendulum.urdf from
 #     urdf/hoap3.urdf with tools/make_double_pendulum.py (a test fails when the two disagree).
 # For the package config (install(EXPORT ...)): Config.cmake must call find_dependency(urdfdom) when spatial::urdf is
@@ -41,8 +39,3 @@ if(SPATIAL_WITH_URDF)
       VERBATIM)
   endif()
 endif()
-
-function(spatial_urdf_test_definitions target)
-  get_filename_component(_spatial_source_dir "${CMAKE_CURRENT_FUNCTION_LIST_DIR}/.." ABSOLUTE)
-  target_compile_definitions(${target} PRIVATE SPATIAL_SOURCE_DIR="${_spatial_source_dir}")
-endfunction()
