@@ -254,6 +254,18 @@ class Model {
     return out;
   }
 
+  /// A compile-time model straight from its numbers, without `ModelBuilder` (the generated models of src/models,
+  /// written by tools/spatial-gen, are built this way). Per body i, in model order: `X_tree[i]` (= `tree_transform(i)`),
+  /// `inertia[i]` (= `inertia(i)`: body coordinates, fixed children already merged), `axis[i]` (= `axis(i)`: ignored
+  /// and set to the coordinate axis for the X/Y/Z joint types, normalised for the *Axis types), the body and joint
+  /// names; then gravity (base coordinates), the fixed frames and the mass merged into the base. Checks what
+  /// `ModelBuilder` checks (rigid finite transforms, physical inertias, non-zero axes, frames attached to existing
+  /// bodies) and throws `ModelError` naming the body or frame at fault.
+  static Model from_arrays(const Array<Transform<S>>& X_tree, const Array<Inertia<S>>& inertia,
+                           const Array<Vector3<S>>& axis, const Array<std::string>& body_names,
+                           const Array<std::string>& joint_names, const Vector3<S>& gravity,
+                           std::vector<FixedFrame<S>> frames = {}, S base_mass = S(0));
+
   Model() {
     g_ = Vector3<S>(S(0), S(0), S(-9.81));
     if constexpr (is_static) resize_(NB);
@@ -323,6 +335,52 @@ bool is_rotation(const Matrix3<S>& E) {
   return (E * E.transpose() - Matrix3<S>::Identity()).cwiseAbs().maxCoeff() < tol && E.determinant() > S(0);
 }
 }  // namespace detail
+
+template <class S, class TreeT>
+Model<S, TreeT> Model<S, TreeT>::from_arrays(const Array<Transform<S>>& X_tree, const Array<Inertia<S>>& inertia,
+                                             const Array<Vector3<S>>& axis, const Array<std::string>& body_names,
+                                             const Array<std::string>& joint_names, const Vector3<S>& gravity,
+                                             std::vector<FixedFrame<S>> frames, S base_mass) {
+  static_assert(is_static, "Model::from_arrays builds compile-time models; use ModelBuilder for run-time trees");
+  Model out;
+  if (!gravity.allFinite()) throw ModelError("gravity contains NaN or Inf");
+  for (int i = 0; i < NB; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    const std::string what = "body " + std::to_string(i) + " '" + body_names[k] + "' (joint '" + joint_names[k] + "')";
+    if (!detail::all_finite(X_tree[k]) || !detail::is_rotation(X_tree[k].E))
+      throw ModelError(what + ": joint placement is not a finite rigid transform");
+    const std::string bad = detail::inertia_problem(inertia[k]);
+    if (!bad.empty()) throw ModelError(what + ": " + bad);
+    Vector3<S> a = axis[k];
+    switch (TreeT::joint[k]) {
+      case JointType::RevoluteX: case JointType::PrismaticX: a = Vector3<S>::UnitX(); break;
+      case JointType::RevoluteY: case JointType::PrismaticY: a = Vector3<S>::UnitY(); break;
+      case JointType::RevoluteZ: case JointType::PrismaticZ: a = Vector3<S>::UnitZ(); break;
+      case JointType::RevoluteAxis:
+      case JointType::PrismaticAxis:
+        if (!a.allFinite() || !(a.norm() > S(0))) throw ModelError(what + ": joint axis is zero or not finite");
+        a.normalize();
+        break;
+    }
+    out.Xtree_[k] = X_tree[k];
+    out.I_[k] = inertia[k];
+    out.axis_[k] = a;
+    out.body_names_[k] = body_names[k];
+    out.joint_names_[k] = joint_names[k].empty() ? body_names[k] : joint_names[k];
+  }
+  for (const FixedFrame<S>& f : frames) {
+    if (f.body < -1 || f.body >= NB)
+      throw ModelError("fixed frame '" + f.name + "': body " + std::to_string(f.body) + " is not a body of the model");
+    if (!detail::all_finite(f.X) || !detail::is_rotation(f.X.E))
+      throw ModelError("fixed frame '" + f.name + "': placement is not a finite rigid transform");
+  }
+  using std::isfinite;
+  if (!isfinite(base_mass) || base_mass < S(0)) throw ModelError("base mass is negative or not finite");
+  out.g_ = gravity;
+  out.frames_ = std::move(frames);
+  out.base_mass_ = base_mass;
+  return out;
+}
 
 /// Builds a run-time `Model<S>` body by body, checking every input; `build()` returns a complete model or throws
 /// `ModelError` naming the body at fault (the builder's own state is left as it was before the failing call).

@@ -1,0 +1,21 @@
+# ctest "models_up_to_date": the headers committed in src/models/ must equal the ones the build generated.
+# -DGENERATED=<list> -DCOMMITTED=<list> (same order) -DBUILD_DIR=<build dir, for the message>
+cmake_minimum_required(VERSION 3.16)
+set(stale)
+foreach(gen IN LISTS GENERATED)
+  list(FIND GENERATED "${gen}" index)
+  list(GET COMMITTED ${index} com)
+  if(NOT EXISTS "${gen}")
+    message(FATAL_ERROR "${gen} was not generated (build the project first)")
+  endif()
+  execute_process(COMMAND "${CMAKE_COMMAND}" -E compare_files "${gen}" "${com}" RESULT_VARIABLE different)
+  if(different)
+    list(APPEND stale "${com}")
+  endif()
+endforeach()
+if(stale)
+  string(REPLACE ";" "\n  " stale_lines "${stale}")
+  message(FATAL_ERROR "the committed model headers are stale (the URDF or the generator changed):\n  ${stale_lines}\n"
+                      "update them with: cmake --build ${BUILD_DIR} --target update_models   (then commit them)")
+endif()
+message(STATUS "src/models/*.hpp are up to date")

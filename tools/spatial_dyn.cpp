@@ -1,0 +1,469 @@
+// spatial-dyn: inverse dynamics, forward dynamics and joint-space inertia of a URDF robot on CSV files of states.
+//
+//   spatial-dyn id   --urdf FILE [MODEL OPTIONS] --in STATES.csv [--out OUT.csv] [--echo]
+//   spatial-dyn fd   --urdf FILE [MODEL OPTIONS] --in STATES.csv [--out OUT.csv] [--echo] [--method aba|crba]
+//   spatial-dyn crba --urdf FILE [MODEL OPTIONS] --in STATES.csv [--out OUT.csv] [--echo]
+//   spatial-dyn info --urdf FILE [MODEL OPTIONS]
+//   MODEL OPTIONS: --root LINK  --subtree LINK  --lock JOINT=ANGLE,...  --gravity gx,gy,gz  --gravity-frame root|urdf
+//
+// CSV rules (also in README.md, "Command-line tool"):
+//  - The first line is the header. Columns are named `q:<joint>`, `qd:<joint>`, `qdd:<joint>`, `tau:<joint>` with
+//    the URDF joint names, in any order; every later non-empty line is one sample. Plain comma-separated values:
+//    fields are trimmed, a header name in double quotes is unquoted, there is no other quoting. Blank lines are
+//    skipped.
+//  - id needs q, qd, qdd of every joint of the model; fd needs q, qd, tau; crba needs q. Columns of the four kinds
+//    that the subcommand does not use are not read (but their joint names are checked).
+//  - A q:/qd:/qdd:/tau: column naming a joint that the URDF does not have is an error. Columns of URDF joints that
+//    the model does not move (fixed, --lock'ed, or outside the --subtree) are ignored, with a note on stderr: a
+//    whole-body trajectory can be fed to a model with locked joints; the lock positions come from --lock only.
+//  - Columns with any other name (`time`, ...) are ignored, or copied to the output with --echo.
+//  - Output: a header and one line per sample, `tau:<joint>` (id), `qdd:<joint>` (fd) or `H:<jointA>:<jointB>`
+//    row-major (crba), joints in model order (`spatial-dyn info`), numbers with up to 17 significant digits (the
+//    shortest text that reads back as the same double). --echo puts the input's columns first (except those that
+//    the output recomputes). --out - or no --out: stdout. Nothing is written unless every sample is good.
+//  - Errors: exit status 1 (bad input, model or file) or 2 (bad command line), and one line on stderr naming the
+//    file, line, row and column at fault.
+
+#include "cli_common.hpp"
+
+#include <spatial/spatial.hpp>
+#include <spatial/urdf.hpp>
+
+#include <algorithm>
+#include <array>
+#include <exception>
+#include <fstream>
+#include <iostream>
+#include <iterator>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace {
+
+using namespace spatial;
+namespace uio = spatial::urdf_io;
+using cli::InputError;
+using cli::UsageError;
+
+const char* kUsage =
+    "usage: spatial-dyn id   --urdf FILE [MODEL OPTIONS] --in STATES.csv [--out OUT.csv] [--echo]\n"
+    "       spatial-dyn fd   --urdf FILE [MODEL OPTIONS] --in STATES.csv [--out OUT.csv] [--echo] [--method aba|crba]\n"
+    "       spatial-dyn crba --urdf FILE [MODEL OPTIONS] --in STATES.csv [--out OUT.csv] [--echo]\n"
+    "       spatial-dyn info --urdf FILE [MODEL OPTIONS]\n"
+    "MODEL OPTIONS: --root LINK  --subtree LINK  --lock JOINT=ANGLE,...  --gravity gx,gy,gz  --gravity-frame root|urdf\n"
+    "\n"
+    "  id    inverse dynamics (RNEA): columns q:<joint>, qd:<joint>, qdd:<joint> -> tau:<joint>\n"
+    "  fd    forward dynamics (ABA, or CRBA + LTDL with --method crba): q:, qd:, tau: -> qdd:<joint>\n"
+    "  crba  joint-space inertia matrix: q: -> H:<jointA>:<jointB>, row-major\n"
+    "  info  joints in model order, limits, mass, centre of mass, massless joints, frames\n"
+    "\n"
+    "CSV: a header row, one sample per line, columns in any order named by the URDF joint names; other columns are\n"
+    "ignored (--echo copies them to the output); columns of joints the model does not move (fixed, locked, outside\n"
+    "the subtree) are ignored. --in - reads stdin; --out - (default) writes stdout. Numbers are written with up to 17\n"
+    "significant digits. Gravity defaults to (0, 0, -9.81) in the root link's frame (--gravity-frame urdf: in the\n"
+    "URDF root link's frame). Exit status: 0 ok, 1 bad input, 2 bad command line.\n";
+
+enum class Command { Id, Fd, Crba, Info };
+
+// ---------------------------------------------------------------------------------------------------------------
+// The model
+
+struct Robot {
+  uio::LoadedModel loaded;
+  std::string urdf;
+  std::set<std::string> urdf_joints;  // every <joint> of the file, moving or not
+};
+
+Robot load_robot(const cli::Options& opts) {
+  Robot r;
+  r.urdf = opts.required("--urdf");
+  const uio::LoadOptions load = cli::load_options(opts);
+  r.loaded = uio::load_file(r.urdf, load);  // throws ModelError naming the file (and checks it can be read)
+  std::ifstream in(r.urdf, std::ios::binary);
+  const std::string xml((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  for (const std::string& name : uio::detail::joint_document_order(xml)) r.urdf_joints.insert(name);
+  return r;
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// CSV input
+
+struct Line {
+  int number;  // 1-based line number in the file
+  std::vector<std::string_view> fields;
+};
+
+struct Table {
+  std::string source;  // file name, or "<stdin>"
+  std::string text;    // owns the characters the fields point into
+  Line header;
+  std::vector<Line> rows;
+};
+
+Table read_table(const std::string& path) {
+  Table t;
+  if (path == "-") {
+    t.source = "<stdin>";
+    t.text.assign(std::istreambuf_iterator<char>(std::cin), std::istreambuf_iterator<char>());
+  } else {
+    t.source = path;
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(path + ": cannot open the file for reading (no such file, or no permission)");
+    t.text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    if (in.bad()) throw InputError(path + ": error while reading the file");
+  }
+  const std::string_view all(t.text);
+  bool have_header = false;
+  int number = 0;
+  std::size_t start = 0;
+  while (start < all.size()) {
+    std::size_t end = all.find('\n', start);
+    if (end == std::string_view::npos) end = all.size();
+    const std::string_view line = all.substr(start, end - start);
+    start = end + 1;
+    ++number;
+    if (cli::trim(line).empty()) continue;
+    Line l{number, cli::split(line, ',')};
+    for (auto& f : l.fields) f = cli::trim(f);
+    if (!have_header) {
+      t.header = std::move(l);
+      have_header = true;
+    } else {
+      t.rows.push_back(std::move(l));
+    }
+  }
+  if (!have_header) throw InputError(t.source + ": empty input (expected a header row naming the columns)");
+  return t;
+}
+
+std::string where(const Table& t, const Line& l) {
+  if (&l == &t.header) return t.source + " line " + std::to_string(l.number) + " (header)";
+  const auto row = static_cast<std::size_t>(&l - t.rows.data()) + 1;
+  return t.source + " line " + std::to_string(l.number) + " (row " + std::to_string(row) + ")";
+}
+
+std::string column_text(const std::string& name, std::size_t index) {
+  return "column " + std::to_string(index + 1) + " '" + name + "'";
+}
+
+const std::array<std::string, 4> kKinds = {"q", "qd", "qdd", "tau"};
+
+struct Columns {
+  std::vector<std::string> names;                  // header, unquoted
+  std::array<std::vector<int>, 4> of;              // per kind, per model joint: column index or -1
+  std::vector<std::string> ignored_joints;         // URDF joints not in the model that had columns
+};
+
+Columns map_columns(const Table& t, const Robot& robot) {
+  const Model<double>& model = robot.loaded.model;
+  const int n = model.size();
+  Columns c;
+  for (auto& v : c.of) v.assign(static_cast<std::size_t>(n), -1);
+  std::set<std::string> seen;
+  for (std::size_t k = 0; k < t.header.fields.size(); ++k) {
+    std::string name(t.header.fields[k]);
+    if (name.size() >= 2 && name.front() == '"' && name.back() == '"') name = name.substr(1, name.size() - 2);
+    c.names.push_back(name);
+    if (name.empty()) continue;
+    if (!seen.insert(name).second)
+      throw InputError(where(t, t.header) + ", " + column_text(name, k) + ": duplicate column name");
+    const std::size_t colon = name.find(':');
+    if (colon == std::string::npos) continue;
+    const std::string kind = name.substr(0, colon), joint = name.substr(colon + 1);
+    const auto kit = std::find(kKinds.begin(), kKinds.end(), kind);
+    if (kit == kKinds.end()) continue;  // some other column (H:..., x:..., ...): ignored
+    const int i = model.joint_index(joint);
+    if (i >= 0) {
+      c.of[static_cast<std::size_t>(kit - kKinds.begin())][static_cast<std::size_t>(i)] = static_cast<int>(k);
+    } else if (robot.urdf_joints.count(joint)) {
+      if (std::find(c.ignored_joints.begin(), c.ignored_joints.end(), joint) == c.ignored_joints.end())
+        c.ignored_joints.push_back(joint);
+    } else {
+      throw InputError(where(t, t.header) + ", " + column_text(name, k) + ": unknown joint '" + joint + "' (" +
+                       robot.urdf + " has no joint of that name)");
+    }
+  }
+  return c;
+}
+
+void require(const Table& t, const Columns& c, const Model<double>& model, const std::vector<int>& kinds,
+             const std::string& command) {
+  std::vector<std::string> missing;
+  for (int kind : kinds)
+    for (int i = 0; i < model.size(); ++i)
+      if (c.of[static_cast<std::size_t>(kind)][static_cast<std::size_t>(i)] < 0)
+        missing.push_back(kKinds[static_cast<std::size_t>(kind)] + ":" + model.joint_name(i));
+  if (missing.empty()) return;
+  std::string needs;
+  for (int kind : kinds) needs += (needs.empty() ? "" : ", ") + kKinds[static_cast<std::size_t>(kind)] + ":";
+  throw InputError(where(t, t.header) + ": missing column '" + missing.front() + "'" +
+                   (missing.size() > 1 ? " (and " + std::to_string(missing.size() - 1) + " more)" : "") + "; " +
+                   command + " needs " + needs + " columns for each of the " + std::to_string(model.size()) +
+                   " joints of the model (spatial-dyn info lists them)");
+}
+
+double cell(const Table& t, const Line& l, const Columns& c, int k) {
+  const auto col = static_cast<std::size_t>(k);
+  const std::string_view text = l.fields[col];
+  const auto x = cli::parse_double(text);
+  if (!x) {
+    const std::string what = text.empty() ? std::string("empty cell") : "'" + std::string(text) + "'";
+    throw InputError(where(t, l) + ", " + column_text(c.names[col], col) + ": " + what + " is not a finite number");
+  }
+  return *x;
+}
+
+void check_width(const Table& t, const Line& l, const Columns& c) {
+  const std::size_t want = c.names.size(), got = l.fields.size();
+  if (got == want) return;
+  if (got < want)
+    throw InputError(where(t, l) + ", " + column_text(c.names[got], got) + ": missing (the row has " +
+                     std::to_string(got) + " fields, the header " + std::to_string(want) + ")");
+  throw InputError(where(t, l) + ", column " + std::to_string(want + 1) + ": extra field (the row has " +
+                   std::to_string(got) + " fields, the header " + std::to_string(want) + ")");
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Subcommands
+
+std::string output_path(const cli::Options& opts) { return opts.get("--out").value_or("-"); }
+
+void write_output(const std::string& path, const std::string& text) {
+  if (path == "-") {
+    std::cout << text;
+    std::cout.flush();
+    if (!std::cout) throw InputError("error writing to stdout");
+    return;
+  }
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (!out) throw InputError(path + ": cannot open the file for writing");
+  out << text;
+  out.close();
+  if (!out) throw InputError(path + ": error while writing the file");
+}
+
+int run_dynamics(Command cmd, const cli::Options& opts) {
+  const Robot robot = load_robot(opts);
+  const Model<double>& model = robot.loaded.model;
+  const int n = model.size();
+  const std::string name = cmd == Command::Id ? "id" : cmd == Command::Fd ? "fd" : "crba";
+
+  std::string method = "aba";
+  if (auto m = opts.get("--method")) {
+    if (cmd != Command::Fd) throw UsageError("--method is an option of fd only");
+    if (*m != "aba" && *m != "crba") throw UsageError("--method: expected 'aba' or 'crba', got '" + *m + "'");
+    method = *m;
+  }
+  if (cmd == Command::Fd) {
+    try {
+      uio::check_nonsingular(robot.loaded);
+    } catch (const ModelError& e) {
+      std::string lock;
+      for (int i : model.massless_joints()) lock += (lock.empty() ? "" : ",") + model.joint_name(i) + "=0";
+      throw InputError(std::string(e.what()) + "; on the command line: --lock " + lock);
+    }
+  }
+
+  const Table table = read_table(opts.required("--in"));
+  const Columns cols = map_columns(table, robot);
+  const std::vector<int> kinds = cmd == Command::Id ? std::vector<int>{0, 1, 2}
+                                 : cmd == Command::Fd ? std::vector<int>{0, 1, 3}
+                                                      : std::vector<int>{0};
+  require(table, cols, model, kinds, "spatial-dyn " + name);
+  if (!cols.ignored_joints.empty()) {
+    std::string list;
+    for (const auto& j : cols.ignored_joints) list += (list.empty() ? "" : ", ") + j;
+    std::cerr << "spatial-dyn: note: ignoring the columns of joints that the model does not move: " << list << "\n";
+  }
+
+  // Output header.
+  std::vector<std::string> out_names;
+  if (cmd == Command::Crba) {
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) out_names.push_back("H:" + model.joint_name(i) + ":" + model.joint_name(j));
+  } else {
+    const std::string prefix = cmd == Command::Id ? "tau:" : "qdd:";
+    for (int i = 0; i < n; ++i) out_names.push_back(prefix + model.joint_name(i));
+  }
+  const bool echo = opts.has("--echo");
+  std::vector<std::size_t> echoed;  // input columns copied to the output
+  if (echo)
+    for (std::size_t k = 0; k < cols.names.size(); ++k)
+      if (std::find(out_names.begin(), out_names.end(), cols.names[k]) == out_names.end()) echoed.push_back(k);
+
+  std::string out;
+  {
+    bool first = true;
+    for (std::size_t k : echoed) {
+      out += (first ? "" : ",") + std::string(table.header.fields[k]);
+      first = false;
+    }
+    for (const auto& s : out_names) {
+      out += (first ? "" : ",") + s;
+      first = false;
+    }
+    out += '\n';
+  }
+
+  Data<double> data(model);
+  Eigen::VectorXd q(n), qd(n), x(n);
+  const auto& qc = cols.of[0];
+  const auto& qdc = cols.of[1];
+  const auto& xc = cols.of[cmd == Command::Fd ? 3 : 2];
+  for (const Line& row : table.rows) {
+    check_width(table, row, cols);
+    for (int i = 0; i < n; ++i) {
+      const auto k = static_cast<std::size_t>(i);
+      q[i] = cell(table, row, cols, qc[k]);
+      if (cmd != Command::Crba) {
+        qd[i] = cell(table, row, cols, qdc[k]);
+        x[i] = cell(table, row, cols, xc[k]);
+      }
+    }
+    bool first = true;
+    for (std::size_t k : echoed) {
+      out += (first ? "" : ",") + std::string(row.fields[k]);
+      first = false;
+    }
+    auto put = [&](double v) {
+      if (!first) out += ',';
+      out += cli::format_double(v);
+      first = false;
+    };
+    if (cmd == Command::Id) {
+      const auto& tau = rnea(model, data, q, qd, x);
+      for (int i = 0; i < n; ++i) put(tau[i]);
+    } else if (cmd == Command::Fd) {
+      const auto& qdd = method == "aba" ? aba(model, data, q, qd, x) : forward_dynamics_crba(model, data, q, qd, x);
+      for (int i = 0; i < n; ++i) put(qdd[i]);
+    } else {
+      crba(model, data, q);
+      // H is symmetric; read every entry from the lower triangle.
+      for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) put(i >= j ? data.H(i, j) : data.H(j, i));
+    }
+    out += '\n';
+  }
+  write_output(output_path(opts), out);
+  return 0;
+}
+
+std::string pad(std::string s, std::size_t width) {
+  if (s.size() < width) s.append(width - s.size(), ' ');
+  return s;
+}
+
+std::string vec3(const Eigen::Vector3d& v) {
+  return cli::format_double(v.x()) + " " + cli::format_double(v.y()) + " " + cli::format_double(v.z());
+}
+
+int run_info(const cli::Options& opts) {
+  const Robot robot = load_robot(opts);
+  const uio::LoadedModel& m = robot.loaded;
+  const Model<double>& model = m.model;
+  const int n = model.size();
+  std::ostringstream o;
+  o << "urdf:      " << robot.urdf << "\n"
+    << "root:      " << m.root << " (the fixed base)\n"
+    << "dof:       " << n << "\n"
+    << "gravity:   " << vec3(model.gravity()) << " m/s^2 (base frame)\n"
+    << "locked:    ";
+  if (m.locked.empty()) o << "none";
+  for (std::size_t k = 0; k < m.locked.size(); ++k)
+    o << (k ? ", " : "") << m.locked[k].first << "=" << cli::format_double(m.locked[k].second);
+  o << "\n";
+
+  const std::vector<int> massless = model.massless_joints();
+  std::size_t wj = 5, wl = 4;
+  for (int i = 0; i < n; ++i) {
+    wj = std::max(wj, model.joint_name(i).size());
+    wl = std::max(wl, model.body_name(i).size());
+  }
+  o << "joints (model order; q, qd, qdd, tau follow it):\n"
+    << "  " << pad("#", 4) << pad("joint", wj + 2) << pad("link", wl + 2) << pad("parent", 8) << pad("type", 15)
+    << pad("lower", 12) << pad("upper", 12) << pad("effort", 10) << pad("velocity", 10) << "notes\n";
+  for (int i = 0; i < n; ++i) {
+    const uio::JointInfo& j = m.joints[static_cast<std::size_t>(i)];
+    std::string notes;
+    if (j.reversed) notes += "reversed";
+    if (std::find(massless.begin(), massless.end(), i) != massless.end()) notes += notes.empty() ? "massless" : " massless";
+    o << "  " << pad(std::to_string(i), 4) << pad(model.joint_name(i), wj + 2) << pad(model.body_name(i), wl + 2)
+      << pad(std::to_string(model.parent(i)), 8) << pad(std::string(joint_type_name(model.joint_type(i))), 15)
+      << pad(cli::format_double(j.lower), 12) << pad(cli::format_double(j.upper), 12)
+      << pad(cli::format_double(j.effort), 10) << pad(cli::format_double(j.velocity), 10) << notes << "\n";
+  }
+  Data<double> data(model);
+  const Eigen::Vector3d com = uio::whole_body_com(m, data, Eigen::VectorXd::Zero(n));
+  o << "mass:      " << cli::format_double(uio::whole_body_mass(m)) << " kg (moving bodies "
+    << cli::format_double(model.total_mass()) << " kg, fixed base " << cli::format_double(model.base_mass())
+    << " kg)\n"
+    << "com:       " << vec3(com) << " m at q = 0 (whole body, base frame)\n"
+    << "massless:  ";
+  if (massless.empty()) {
+    o << "none";
+  } else {
+    std::string lock;
+    for (std::size_t k = 0; k < massless.size(); ++k) {
+      o << (k ? ", " : "") << model.joint_name(massless[k]);
+      lock += (k ? "," : "") + model.joint_name(massless[k]) + "=0";
+    }
+    o << " (they move no mass: H is singular and fd refuses the model; lock them, e.g. --lock " << lock << ")";
+  }
+  o << "\nframes:    ";
+  const auto& frames = model.frames();
+  for (std::size_t k = 0; k < frames.size(); ++k)
+    o << (k ? ", " : "") << frames[k].name << " ("
+      << (frames[k].body < 0 ? std::string("base") : model.body_name(frames[k].body)) << ")";
+  o << "\n";
+  std::cout << o.str();
+  return 0;
+}
+
+int run(int argc, char** argv) {
+  if (argc < 2) throw UsageError("no subcommand (id, fd, crba or info; try --help)");
+  const std::string sub = argv[1];
+  if (sub == "--help" || sub == "-h" || sub == "help") {
+    std::cout << kUsage;
+    return 0;
+  }
+  Command cmd;
+  if (sub == "id") cmd = Command::Id;
+  else if (sub == "fd") cmd = Command::Fd;
+  else if (sub == "crba") cmd = Command::Crba;
+  else if (sub == "info") cmd = Command::Info;
+  else throw UsageError("unknown subcommand '" + sub + "' (id, fd, crba or info; try --help)");
+  for (int i = 2; i < argc; ++i)
+    if (std::string(argv[i]) == "--help" || std::string(argv[i]) == "-h") {
+      std::cout << kUsage;
+      return 0;
+    }
+  std::vector<std::string> with_value = cli::model_option_names();
+  std::vector<std::string> flags;
+  if (cmd != Command::Info) {
+    for (const char* s : {"--in", "--out", "--method"}) with_value.emplace_back(s);
+    flags.emplace_back("--echo");
+  }
+  const cli::Options opts(argc, argv, 2, with_value, flags);
+  if (cmd == Command::Info) return run_info(opts);
+  opts.required("--urdf");
+  opts.required("--in");
+  return run_dynamics(cmd, opts);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const UsageError& e) {
+    std::cerr << "spatial-dyn: " << cli::one_line(e.what()) << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "spatial-dyn: " << cli::one_line(e.what()) << "\n";
+    return 1;
+  }
+}
