@@ -15,6 +15,7 @@
 #include "spatial/algebra.hpp"
 #include "spatial/joints.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -225,6 +226,10 @@ class Model {
     if (other.size() != NB) {
       std::ostringstream os;
       os << "model size mismatch: the compile-time tree has " << NB << " bodies, the model has " << other.size();
+      if (other.size() > NB)
+        os << " (body " << NB << " '" << other.body_name(NB) << "' has no counterpart in the tree)";
+      else if (other.size() > 0)
+        os << " (the model ends at body " << other.size() - 1 << " '" << other.body_name(other.size() - 1) << "')";
       throw ModelError(os.str());
     }
     Model out;
@@ -331,7 +336,8 @@ std::string inertia_problem(const Inertia<S>& I) {
 }
 template <class S>
 bool is_rotation(const Matrix3<S>& E) {
-  const S tol = S(1e-9);
+  // 1e-9, but never below what the scalar can represent (a float rotation is orthonormal only to ~1e-7).
+  const S tol = std::max(S(1e-9), S(64) * std::numeric_limits<S>::epsilon());
   return (E * E.transpose() - Matrix3<S>::Identity()).cwiseAbs().maxCoeff() < tol && E.determinant() > S(0);
 }
 }  // namespace detail
