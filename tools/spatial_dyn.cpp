@@ -407,7 +407,8 @@ int run_info(const cli::Options& opts) {
   o << "mass:      " << human(uio::whole_body_mass(m)) << " kg (moving bodies "
     << human(model.total_mass()) << " kg, fixed base " << human(model.base_mass())
     << " kg)\n"
-    << "com:       " << vec3(com) << " m at q = 0 (whole body, base frame)\n"
+    << "com:       " << (uio::whole_body_mass(m) > 0 ? vec3(com) + " m at q = 0 (whole body, base frame)" : "none (no mass)")
+    << "\n"
     << "massless:  ";
   if (massless.empty()) {
     o << "none";
