@@ -31,6 +31,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdio>
 #include <exception>
 #include <fstream>
 #include <iostream>
@@ -357,9 +358,14 @@ std::string pad(std::string s, std::size_t width) {
   return s;
 }
 
-std::string vec3(const Eigen::Vector3d& v) {
-  return cli::format_double(v.x()) + " " + cli::format_double(v.y()) + " " + cli::format_double(v.z());
+/// Numbers in `info` are for people: 12 significant digits (the CSV outputs keep every digit).
+std::string human(double x) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.12g", x);
+  return buf;
 }
+
+std::string vec3(const Eigen::Vector3d& v) { return human(v.x()) + " " + human(v.y()) + " " + human(v.z()); }
 
 int run_info(const cli::Options& opts) {
   const Robot robot = load_robot(opts);
@@ -374,7 +380,7 @@ int run_info(const cli::Options& opts) {
     << "locked:    ";
   if (m.locked.empty()) o << "none";
   for (std::size_t k = 0; k < m.locked.size(); ++k)
-    o << (k ? ", " : "") << m.locked[k].first << "=" << cli::format_double(m.locked[k].second);
+    o << (k ? ", " : "") << m.locked[k].first << "=" << human(m.locked[k].second);
   o << "\n";
 
   const std::vector<int> massless = model.massless_joints();
@@ -393,15 +399,16 @@ int run_info(const cli::Options& opts) {
     if (std::find(massless.begin(), massless.end(), i) != massless.end()) notes += notes.empty() ? "massless" : " massless";
     o << "  " << pad(std::to_string(i), 4) << pad(model.joint_name(i), wj + 2) << pad(model.body_name(i), wl + 2)
       << pad(std::to_string(model.parent(i)), 8) << pad(std::string(joint_type_name(model.joint_type(i))), 15)
-      << pad(cli::format_double(j.lower), 12) << pad(cli::format_double(j.upper), 12)
-      << pad(cli::format_double(j.effort), 10) << pad(cli::format_double(j.velocity), 10) << notes << "\n";
+      << pad(human(j.lower), 12) << pad(human(j.upper), 12)
+      << pad(human(j.effort), 10) << pad(human(j.velocity), 10) << notes << "\n";
   }
   Data<double> data(model);
   const Eigen::Vector3d com = uio::whole_body_com(m, data, Eigen::VectorXd::Zero(n));
-  o << "mass:      " << cli::format_double(uio::whole_body_mass(m)) << " kg (moving bodies "
-    << cli::format_double(model.total_mass()) << " kg, fixed base " << cli::format_double(model.base_mass())
+  o << "mass:      " << human(uio::whole_body_mass(m)) << " kg (moving bodies "
+    << human(model.total_mass()) << " kg, fixed base " << human(model.base_mass())
     << " kg)\n"
-    << "com:       " << vec3(com) << " m at q = 0 (whole body, base frame)\n"
+    << "com:       " << (uio::whole_body_mass(m) > 0 ? vec3(com) + " m at q = 0 (whole body, base frame)" : "none (no mass)")
+    << "\n"
     << "massless:  ";
   if (massless.empty()) {
     o << "none";
