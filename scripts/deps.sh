@@ -10,6 +10,7 @@ packages=(
   ninja-build
   clang
   python3
+  python3-venv
   libeigen3-dev
   liburdfdom-dev
   liborocos-kdl-dev

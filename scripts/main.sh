@@ -1,38 +1,85 @@
 #!/usr/bin/env bash
-# Builds the release preset and runs every benchmark, writing one JSON report per benchmark binary to
-# build/report/<name>.json. Extra arguments are passed to every benchmark binary, e.g.
-#   scripts/main.sh --benchmark_filter=RNEA
-# JOBS (default 2) sets the build parallelism.
+# The main job: the benchmark report, from a fresh clone on a fresh Debian bookworm machine.
+#   1. Debian packages (scripts/deps.sh), then the optional peers and tools in build/venv (scripts/peers.sh:
+#      Pinocchio from PyPI's `pin`, matplotlib; the run goes on without them if pip fails).
+#   2. Release builds of every benchmark binary and the error study, with g++ (preset "release", build/) and with
+#      clang++ (preset "clang-release", build-clang/). Tests are not built here (scripts/test.sh does that).
+#   3. Runs every benchmark binary of each build (Google Benchmark, repetitions with medians) and the error study,
+#      writing JSON to build/report/raw/<compiler>/.
+#   4. tools/report.py: build/report/report.md, summary.json and the PNG charts; prints the headline table.
+#
+# Extra arguments are passed to every benchmark binary, e.g.  scripts/main.sh --benchmark_filter=stance21
+# Environment: JOBS (build parallelism, default 2), REPETITIONS (default 5), MIN_TIME (seconds per repetition,
+# default 0.05), COMPILERS (default "gcc clang"), SKIP_PEERS=1 (no venv, no Pinocchio, no charts).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
+start=$(date +%s)
 jobs=${JOBS:-2}
+repetitions=${REPETITIONS:-5}
+min_time=${MIN_TIME:-0.05}
+compilers=${COMPILERS:-gcc clang}
 report_dir=build/report
+raw_dir=$report_dir/raw
 
+stage() { echo; echo "==== [$(( $(date +%s) - start )) s] $* ===="; }
+
+stage "dependencies"
 bash scripts/deps.sh
-
-cmake --preset release
-cmake --build --preset release --parallel "$jobs"
-
-mkdir -p "$report_dir"
-
-shopt -s nullglob
-benches=()
-for candidate in build/bin/bench_*; do
-  if [[ -f "$candidate" && -x "$candidate" ]]; then
-    benches+=("$candidate")
-  fi
-done
-if [[ ${#benches[@]} -eq 0 ]]; then
-  echo "main.sh: no benchmark executables in build/bin" >&2
-  exit 1
+if [[ "${SKIP_PEERS:-0}" != 1 ]]; then
+  bash scripts/peers.sh || echo "main.sh: peers.sh failed; going on without Pinocchio and charts" >&2
 fi
 
-for bench in "${benches[@]}"; do
-  name=$(basename "$bench")
-  echo "==== $name ===="
-  "$bench" --benchmark_min_time=0.2 \
-    --benchmark_out="$report_dir/$name.json" --benchmark_out_format=json "$@"
+rm -rf "$raw_dir"
+mkdir -p "$raw_dir"
+
+for compiler in $compilers; do
+  case "$compiler" in
+    gcc) preset=release; build_dir=build ;;
+    clang) preset=clang-release; build_dir=build-clang ;;
+    *) echo "main.sh: unknown compiler '$compiler' (gcc or clang)" >&2; exit 2 ;;
+  esac
+  stage "$compiler: configure and build ($preset, $build_dir)"
+  cmake --preset "$preset" >"$raw_dir/configure-$compiler.log" 2>&1 || { cat "$raw_dir/configure-$compiler.log"; exit 1; }
+  grep -E "spatial:" "$raw_dir/configure-$compiler.log" || true
+  cmake --build --preset "$preset" --target spatial_benchmarks --parallel "$jobs"
 done
 
-echo "main.sh: reports written to $report_dir/"
+for compiler in $compilers; do
+  case "$compiler" in
+    gcc) build_dir=build ;;
+    clang) build_dir=build-clang ;;
+  esac
+  out="$raw_dir/$compiler"
+  mkdir -p "$out"
+  shopt -s nullglob
+  benches=("$build_dir"/bin/bench_*)
+  shopt -u nullglob
+  if [[ ${#benches[@]} -eq 0 ]]; then
+    echo "main.sh: no benchmark executables in $build_dir/bin" >&2
+    exit 1
+  fi
+  for bench in "${benches[@]}"; do
+    [[ -f "$bench" && -x "$bench" ]] || continue
+    name=$(basename "$bench")
+    stage "$compiler: $name"
+    "$bench" --benchmark_min_time="$min_time" --benchmark_repetitions="$repetitions" \
+      --benchmark_report_aggregates_only=true \
+      --benchmark_out="$out/$name.json" --benchmark_out_format=json "$@" >"$out/$name.txt" 2>&1 ||
+      { cat "$out/$name.txt"; echo "main.sh: $name failed" >&2; exit 1; }
+    grep -E "peer check" "$out/$name.txt" | sed 's/^/  /' || true
+    echo "  $(grep -c '_median' "$out/$name.txt" || true) benchmarks -> $out/$name.json"
+  done
+  stage "$compiler: error study"
+  "$build_dir/bin/error_study" "$out/error_study.json"
+done
+
+stage "report"
+python=python3
+if [[ -x build/venv/bin/python ]] && build/venv/bin/python -c "import matplotlib" >/dev/null 2>&1; then
+  python=build/venv/bin/python
+fi
+"$python" tools/report.py --input "$raw_dir" --output "$report_dir"
+
+echo
+echo "main.sh: done in $(( $(date +%s) - start )) s; report in $report_dir/report.md"

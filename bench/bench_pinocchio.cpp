@@ -1,0 +1,169 @@
+// Pinocchio on every bench model, from the same model (peers/pinocchio_peer.hpp) and the same input pool as
+// bench_algorithms: rnea, computeGeneralizedGravity, nonLinearEffects, crba (upper triangle only, as Pinocchio
+// computes it), aba, crba + nonLinearEffects + cholesky::decompose + cholesky::solve, and forwardKinematics; in
+// double, and in float with SPATIAL_PINOCCHIO_FLOAT (CMake option of the same name; off by default because
+// instantiating Pinocchio twice doubles a compile that already takes ~5 CPU minutes with GCC 12). Pinocchio is used header-only (PINOCCHIO_ENABLE_TEMPLATE_INSTANTIATION is not defined, nothing
+// is linked from libpinocchio), compiled with the same compiler and flags as spatial's benchmarks, and against the
+// Eigen that Pinocchio's wheel was built with (cmeel-eigen): this binary never sees Debian's Eigen.
+//
+// Before any timing, Pinocchio's results are compared with spatial's on the first 32 pool states and the program
+// aborts on a mismatch (double: τ, G, C, H and poses ≤ 1e-12 relative, q̈ ≤ 1e-10; float against spatial's double:
+// ≤ 1e-3).
+#include "bench_models.hpp"
+#include "peers/peer_check.hpp"
+#include "peers/pinocchio_peer.hpp"
+
+#include <pinocchio/algorithm/aba.hpp>
+#include <pinocchio/algorithm/cholesky.hpp>
+#include <pinocchio/algorithm/crba.hpp>
+#include <pinocchio/algorithm/kinematics.hpp>
+#include <pinocchio/algorithm/rnea.hpp>
+
+#include <benchmark/benchmark.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace {
+using namespace spatial;
+using namespace spatial::bench;
+using namespace spatial::peers;
+
+template <class S>
+struct PinFixture {
+  using Vector = Eigen::Matrix<S, Eigen::Dynamic, 1>;
+  PinocchioPeer<S> peer;
+  pinocchio::DataTpl<S> data;
+  std::vector<Vector> q, qd, u;  // in Pinocchio's joint order
+  Vector x;
+  int next = 0;
+  explicit PinFixture(PinocchioPeer<S> p) : peer(std::move(p)), data(peer.model) {}
+  int take() {
+    next = next + 1 == static_cast<int>(q.size()) ? 0 : next + 1;
+    return next;
+  }
+};
+
+/// crba + nonLinearEffects + cholesky::decompose + cholesky::solve: Pinocchio's forward dynamics by CRBA.
+template <class S>
+const typename PinFixture<S>::Vector& pinocchio_fd_crba(PinFixture<S>& f, std::size_t k) {
+  const auto& m = f.peer.model;
+  pinocchio::crba(m, f.data, f.q[k]);
+  pinocchio::nonLinearEffects(m, f.data, f.q[k], f.qd[k]);
+  pinocchio::cholesky::decompose(m, f.data);
+  f.x = f.u[k] - f.data.nle;
+  pinocchio::cholesky::solve(m, f.data, f.x);
+  return f.x;
+}
+
+template <class S, class TreeT>
+void check(const BenchModel<TreeT>& entry, PinFixture<S>& f, const InputPool<double>& pool) {
+  const Model<double, TreeT>& model = entry.model;
+  Data<double, TreeT> data(model);
+  const bool is_double = std::is_same_v<S, double>;
+  const double tight = is_double ? 1e-12 : 1e-3, loose = is_double ? 1e-10 : 1e-3;
+  const std::string on = std::string(" (") + scalar_name<S>() + ") on " + entry.name;
+  PeerCheck tau{"Pinocchio rnea tau" + on, tight}, grav{"Pinocchio computeGeneralizedGravity" + on, tight},
+      nle{"Pinocchio nonLinearEffects" + on, tight}, mass{"Pinocchio crba H (upper triangle)" + on, tight},
+      fd_aba{"Pinocchio aba qdd" + on, loose}, fd_crba{"Pinocchio crba+cholesky qdd" + on, loose},
+      fk{"Pinocchio forwardKinematics poses" + on, tight};
+  const auto& pm = f.peer.model;
+  for (int k = 0; k < 32 && k < pool.size(); ++k) {
+    const auto s = static_cast<std::size_t>(k);
+    tau.compare(f.peer.from_pinocchio(pinocchio::rnea(pm, f.data, f.q[s], f.qd[s], f.u[s])),
+                rnea(model, data, pool.q[s], pool.qd[s], pool.u[s]));
+    grav.compare(f.peer.from_pinocchio(pinocchio::computeGeneralizedGravity(pm, f.data, f.q[s])),
+                 gravity_torques(model, data, pool.q[s]));
+    nle.compare(f.peer.from_pinocchio(pinocchio::nonLinearEffects(pm, f.data, f.q[s], f.qd[s])),
+                bias_forces(model, data, pool.q[s], pool.qd[s]));
+    Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic> M = pinocchio::crba(pm, f.data, f.q[s]);
+    M.template triangularView<Eigen::StrictlyLower>() = M.transpose().template triangularView<Eigen::StrictlyLower>();
+    mass.compare(f.peer.from_pinocchio_matrix(M), crba(model, data, pool.q[s]));
+    fd_aba.compare(f.peer.from_pinocchio(pinocchio::aba(pm, f.data, f.q[s], f.qd[s], f.u[s])),
+                   aba(model, data, pool.q[s], pool.qd[s], pool.u[s]));
+    fd_crba.compare(f.peer.from_pinocchio(pinocchio_fd_crba(f, s)),
+                    forward_dynamics_crba(model, data, pool.q[s], pool.qd[s], pool.u[s]));
+    pinocchio::forwardKinematics(pm, f.data, f.q[s]);
+    forward_kinematics(model, data, pool.q[s]);
+    for (std::size_t j = 0; j < f.peer.order.size(); ++j) {
+      const auto pose = body_pose(data, f.peer.order[j]);
+      const auto& oMi = f.data.oMi[j + 1];
+      Eigen::Matrix<double, 3, 4> ours, theirs;
+      ours << pose.linear(), pose.translation();
+      theirs << oMi.rotation().template cast<double>(), oMi.translation().template cast<double>();
+      fk.compare(theirs, ours);
+    }
+  }
+  for (const PeerCheck* c : {&tau, &grav, &nle, &mass, &fd_aba, &fd_crba, &fk}) c->report();
+}
+
+template <class S, class TreeT>
+void register_pinocchio(const BenchModel<TreeT>& entry) {
+  auto fx = std::make_shared<PinFixture<S>>(make_pinocchio_peer(entry.model.template cast<S>()));
+  const InputPool<double> pool(entry.range);
+  for (int k = 0; k < pool.size(); ++k) {
+    const auto s = static_cast<std::size_t>(k);
+    fx->q.push_back(fx->peer.to_pinocchio(pool.q[s]));
+    fx->qd.push_back(fx->peer.to_pinocchio(pool.qd[s]));
+    fx->u.push_back(fx->peer.to_pinocchio(pool.u[s]));
+  }
+  fx->x = PinFixture<S>::Vector::Zero(entry.model.size());
+  check(entry, *fx, pool);
+
+  using Fx = PinFixture<S>;
+  const auto reg = [&](const char* algorithm, auto body) {
+    const std::string name = bench_name("pinocchio", algorithm, entry.name, scalar_name<S>(), "-");
+    benchmark::RegisterBenchmark(name.c_str(), [fx, body](benchmark::State& st) {
+      Fx& f = *fx;
+      for (auto _ : st) body(f, static_cast<std::size_t>(f.take()));
+    });
+  };
+  reg("RNEA", [](Fx& f, std::size_t k) {
+    benchmark::DoNotOptimize(pinocchio::rnea(f.peer.model, f.data, f.q[k], f.qd[k], f.u[k]).data());
+  });
+  reg("GravityTorques", [](Fx& f, std::size_t k) {
+    benchmark::DoNotOptimize(pinocchio::computeGeneralizedGravity(f.peer.model, f.data, f.q[k]).data());
+  });
+  reg("BiasForces", [](Fx& f, std::size_t k) {
+    benchmark::DoNotOptimize(pinocchio::nonLinearEffects(f.peer.model, f.data, f.q[k], f.qd[k]).data());
+  });
+  reg("CRBA", [](Fx& f, std::size_t k) {
+    benchmark::DoNotOptimize(pinocchio::crba(f.peer.model, f.data, f.q[k]).data());
+  });
+  reg("FD_CRBA_LTDL", [](Fx& f, std::size_t k) { benchmark::DoNotOptimize(pinocchio_fd_crba(f, k).data()); });
+  reg("ABA", [](Fx& f, std::size_t k) {
+    benchmark::DoNotOptimize(pinocchio::aba(f.peer.model, f.data, f.q[k], f.qd[k], f.u[k]).data());
+  });
+  reg("FK", [](Fx& f, std::size_t k) {
+    pinocchio::forwardKinematics(f.peer.model, f.data, f.q[k]);
+    benchmark::DoNotOptimize(f.data.oMi.back().translation().data());
+    benchmark::ClobberMemory();
+  });
+}
+
+const bool registered = [] {
+  benchmark::AddCustomContext("pinocchio_version", PINOCCHIO_VERSION);
+  benchmark::AddCustomContext("spatial_eigen", std::to_string(EIGEN_WORLD_VERSION) + "." +
+                                                   std::to_string(EIGEN_MAJOR_VERSION) + "." +
+                                                   std::to_string(EIGEN_MINOR_VERSION));
+#ifdef SPATIAL_BENCH_FLAGS
+  benchmark::AddCustomContext("spatial_flags", SPATIAL_BENCH_FLAGS);
+#endif
+#if defined(__clang__)
+  benchmark::AddCustomContext("spatial_compiler", std::string("clang ") + __clang_version__);
+#elif defined(__GNUC__)
+  benchmark::AddCustomContext("spatial_compiler", std::string("gcc ") + __VERSION__);
+#endif
+  for_each_bench_model([](const auto& entry) {
+    register_pinocchio<double>(entry);
+#ifdef SPATIAL_PINOCCHIO_FLOAT
+    register_pinocchio<float>(entry);
+#endif
+  });
+  return true;
+}();
+
+}  // namespace
+
+BENCHMARK_MAIN();

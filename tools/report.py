@@ -1,0 +1,820 @@
+#!/usr/bin/env python3
+"""The benchmark report: reads Google Benchmark JSON files and the error study's JSON, writes report.md,
+summary.json and PNG charts, and prints the headline table.
+
+Input layout (scripts/main.sh writes it):
+    <input>/<compiler>/bench_*.json       Google Benchmark output, one file per binary (any name ending in .json
+                                          other than error_study.json)
+    <input>/<compiler>/error_study.json   bench/error_study.cpp output
+<compiler> is a directory name (main.sh uses "gcc" and "clang"); every compiler becomes a column.
+
+Benchmark names are "<impl>/<algorithm>/<model>/<scalar>/<tree>" (bench/bench_models.hpp). The time of a benchmark
+is the median over repetitions (aggregate "median"; the single run when there are no repetitions) of the CPU time
+per iteration (--time real: wall time). CPU time is the default because the machine may be shared: a preempted
+process accumulates wall time but not CPU time.
+
+Charts need matplotlib (scripts/peers.sh installs it into build/venv); without it the tables are still written.
+Usage: tools/report.py [--input build/report/raw] [--output build/report] [--time cpu|real]
+"""
+
+import argparse
+import datetime
+import json
+import math
+import os
+import platform
+import re
+import subprocess
+import sys
+
+CONTROL_PERIOD_NS = 2e6  # the 2 ms control period
+
+# The reference study's MATLAB times, quoted in issue 4 (fixed rows, not measured here).
+MATLAB_ROWS = [
+    ("21-DoF RNEA", "stance21", "RNEA", 3e6),
+    ("21-DoF CRBA", "stance21", "CRBA", 3e6),
+    ("2-DoF RNEA", "pendulum2", "RNEA", 0.3e6),
+]
+
+# Fastest peer builds measured on this kind of machine for a 21-joint humanoid, quoted in issue 4 for orientation
+# (not measured here): "our aim is to beat every one of them".
+ORIENTATION_ROWS = [
+    ("Pinocchio, clang", "RNEA", 2000.0),
+    ("Pinocchio, clang", "CRBA", 1800.0),
+    ("Pinocchio, clang", "ABA", 4300.0),
+    ("Pinocchio, clang", "sparse LTDL", 800.0),
+    ("Pinocchio CppADCodeGen", "RNEA", 1200.0),
+    ("Pinocchio CppADCodeGen", "ABA", 3650.0),
+    ("RBDL", "RNEA", 1700.0),
+]
+
+# Performance targets of issue 4: on the 21-DoF stance model in double, median ratio of spatial (compile-time tree)
+# to the peer's call, measured in the same run with the same compiler and flags.
+TARGET_MODEL = "stance21"
+TARGETS = [
+    ("RNEA vs Pinocchio rnea", "RNEA", "pinocchio", "RNEA", 0.4),
+    ("gravity torques vs Pinocchio computeGeneralizedGravity", "GravityTorques", "pinocchio", "GravityTorques", 0.3),
+    ("CRBA vs Pinocchio crba", "CRBA", "pinocchio", "CRBA", 0.55),
+    ("ABA vs Pinocchio aba", "ABA", "pinocchio", "ABA", 0.45),
+    ("FD by CRBA + LTDL vs Pinocchio crba + nonLinearEffects + cholesky", "FD_CRBA_LTDL", "pinocchio",
+     "FD_CRBA_LTDL", 0.5),
+    ("RNEA vs KDL TreeIdSolver_RNE", "RNEA", "kdl", "RNEA", 0.1),
+]
+
+ALGORITHMS = ["RNEA", "GravityTorques", "BiasForces", "CRBA", "FD_CRBA_LTDL", "FD_CRBA_DenseLLT", "ABA", "FK", "LTDL"]
+ALGORITHM_TITLES = {
+    "RNEA": "RNEA (inverse dynamics)",
+    "GravityTorques": "gravity torques",
+    "BiasForces": "bias forces C(q, q̇)",
+    "CRBA": "CRBA (joint-space inertia)",
+    "FD_CRBA_LTDL": "forward dynamics: CRBA + tree LTDL",
+    "FD_CRBA_DenseLLT": "forward dynamics: CRBA + dense Cholesky",
+    "ABA": "forward dynamics: ABA",
+    "FK": "forward kinematics",
+    "LTDL": "LTDL factorise + solve",
+}
+PEER_CALLS = {
+    ("kdl", "RNEA"): "TreeIdSolver_RNE",
+    ("kdl", "CRBA"): "ChainDynParam::JntToMass",
+    ("kdl", "FD_CRBA_LTDL"): "ChainFdSolver_RNE",
+    ("pinocchio", "RNEA"): "rnea",
+    ("pinocchio", "GravityTorques"): "computeGeneralizedGravity",
+    ("pinocchio", "BiasForces"): "nonLinearEffects",
+    ("pinocchio", "CRBA"): "crba (upper triangle)",
+    ("pinocchio", "FD_CRBA_LTDL"): "crba + nonLinearEffects + cholesky",
+    ("pinocchio", "ABA"): "aba",
+    ("pinocchio", "FK"): "forwardKinematics",
+}
+GROWTH_RE = re.compile(r"^(chain|binary)(\d+)$")
+# Variants that compute the same result compete on one Pareto front: the three forward dynamics; every other
+# algorithm competes only with itself in the other scalar type.
+FORWARD_DYNAMICS = ("ABA", "FD_CRBA_LTDL", "FD_CRBA_DenseLLT")
+
+
+def result_group(algorithm):
+    return "forward dynamics" if algorithm in FORWARD_DYNAMICS else algorithm
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# Reading
+# ---------------------------------------------------------------------------------------------------------------
+def to_ns(value, unit):
+    return value * {"ns": 1.0, "us": 1e3, "ms": 1e6, "s": 1e9}[unit]
+
+
+def read_benchmark_file(path, time_kind):
+    """Returns (context, {(impl, algorithm, model, scalar, tree): ns})."""
+    with open(path) as f:
+        data = json.load(f)
+    key_time = "cpu_time" if time_kind == "cpu" else "real_time"
+    medians, singles = {}, {}
+    for b in data.get("benchmarks", []):
+        run_name = b.get("run_name", b["name"])
+        parts = run_name.split("/")
+        if len(parts) < 5:
+            continue
+        key = tuple(parts[:5])
+        ns = to_ns(b[key_time], b.get("time_unit", "ns"))
+        if b.get("run_type") == "aggregate":
+            if b.get("aggregate_name") == "median":
+                medians[key] = ns
+        else:
+            singles.setdefault(key, []).append(ns)
+    times = dict(medians)
+    for key, values in singles.items():
+        if key not in times:
+            values = sorted(values)
+            times[key] = values[len(values) // 2]
+    return data.get("context", {}), times
+
+
+def read_inputs(input_dir, time_kind):
+    compilers = {}
+    if not os.path.isdir(input_dir):
+        sys.exit(f"report.py: no input directory {input_dir}")
+    for compiler in sorted(os.listdir(input_dir)):
+        cdir = os.path.join(input_dir, compiler)
+        if not os.path.isdir(cdir):
+            continue
+        entry = {"times": {}, "contexts": {}, "error": None}
+        for name in sorted(os.listdir(cdir)):
+            path = os.path.join(cdir, name)
+            if not name.endswith(".json"):
+                continue
+            try:
+                if name == "error_study.json":
+                    with open(path) as f:
+                        entry["error"] = json.load(f)
+                else:
+                    context, times = read_benchmark_file(path, time_kind)
+                    entry["contexts"][name[:-5]] = context
+                    entry["times"].update(times)
+            except (OSError, ValueError, KeyError) as e:
+                print(f"report.py: skipping {path}: {e}", file=sys.stderr)
+        if entry["times"] or entry["error"]:
+            compilers[compiler] = entry
+    # gcc before clang, then the rest alphabetically
+    order = {"gcc": 0, "clang": 1}
+    return dict(sorted(compilers.items(), key=lambda kv: (order.get(kv[0], 2), kv[0])))
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# Machine and build facts
+# ---------------------------------------------------------------------------------------------------------------
+def machine_info():
+    info = {"model_name": platform.processor() or platform.machine(), "cpus": os.cpu_count(), "cores": None,
+            "threads_per_core": None}
+    try:
+        out = subprocess.run(["lscpu"], capture_output=True, text=True, check=True).stdout
+        fields = {}
+        for line in out.splitlines():
+            if ":" in line:
+                k, v = line.split(":", 1)
+                fields[k.strip()] = v.strip()
+        info["model_name"] = fields.get("Model name", info["model_name"])
+        info["cpus"] = int(fields.get("CPU(s)", info["cpus"] or 0))
+        cores_per_socket = int(fields.get("Core(s) per socket", 0))
+        sockets = int(fields.get("Socket(s)", 1) or 1)
+        info["cores"] = cores_per_socket * sockets if cores_per_socket else None
+        info["threads_per_core"] = int(fields.get("Thread(s) per core", 0)) or None
+        flags = fields.get("Flags", "").split()
+        info["simd"] = [f for f in ("avx2", "fma", "avx512f") if f in flags]
+    except (OSError, subprocess.CalledProcessError, ValueError):
+        pass
+    info["kernel"] = platform.release()
+    return info
+
+
+def first_context_value(entry, key):
+    for context in entry["contexts"].values():
+        if key in context:
+            return context[key]
+    return None
+
+
+def context_value(entry, file_prefix, key):
+    for name, context in entry["contexts"].items():
+        if name.startswith(file_prefix) and key in context:
+            return context[key]
+    return None
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# Formatting
+# ---------------------------------------------------------------------------------------------------------------
+def fmt_ns(ns):
+    if ns is None:
+        return "–"
+    if ns >= 1e6:
+        return f"{ns / 1e6:.3g} ms"
+    if ns >= 1e3:
+        return f"{ns / 1e3:.3g} µs"
+    return f"{ns:.3g} ns"
+
+
+def fmt_ratio(r, digits=3):
+    if r is None:
+        return "–"
+    return f"{r:.{digits}g}"
+
+
+def fmt_err(e):
+    if e is None:
+        return "–"
+    return f"{e:.2e}"
+
+
+def md_table(header, rows):
+    lines = ["| " + " | ".join(header) + " |", "|" + "|".join("---" for _ in header) + "|"]
+    for r in rows:
+        lines.append("| " + " | ".join(str(c) for c in r) + " |")
+    return "\n".join(lines)
+
+
+def text_table(header, rows):
+    widths = [max(len(str(h)), *(len(str(r[i])) for r in rows)) if rows else len(str(h)) for i, h in enumerate(header)]
+    out = ["  ".join(str(h).ljust(w) for h, w in zip(header, widths)),
+           "  ".join("-" * w for w in widths)]
+    for r in rows:
+        out.append("  ".join(str(c).ljust(w) for c, w in zip(r, widths)))
+    return "\n".join(out)
+
+
+def ratio(a, b):
+    if a is None or b is None or b == 0:
+        return None
+    return a / b
+
+
+def pareto_front(points):
+    """Indices of the points not dominated in (x, y), both minimised."""
+    order = sorted(range(len(points)), key=lambda i: (points[i][0], points[i][1]))
+    front, best_y = [], math.inf
+    for i in order:
+        if points[i][1] < best_y:
+            front.append(i)
+            best_y = points[i][1]
+    return set(front)
+
+
+def fit_exponent(ns_by_n):
+    """Least-squares slope of log(time) against log(n)."""
+    pts = [(math.log(n), math.log(t)) for n, t in ns_by_n if t and t > 0]
+    if len(pts) < 2:
+        return None
+    mx = sum(p[0] for p in pts) / len(pts)
+    my = sum(p[1] for p in pts) / len(pts)
+    sxx = sum((p[0] - mx) ** 2 for p in pts)
+    if sxx == 0:
+        return None
+    return sum((p[0] - mx) * (p[1] - my) for p in pts) / sxx
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# The report
+# ---------------------------------------------------------------------------------------------------------------
+def build(compilers, time_kind):
+    """Summary records and derived tables."""
+    records = []
+    for compiler, entry in compilers.items():
+        times = entry["times"]
+        errors = {}
+        if entry["error"]:
+            for p in entry["error"].get("algorithms", []):
+                errors[(p["model"], p["algorithm"], p["scalar"])] = (p.get("max_rel_error"), p.get("median_rel_error"))
+        for (impl, algorithm, model, scalar, tree), ns in times.items():
+            if impl != "spatial":
+                continue
+            kdl_ns = times.get(("kdl", algorithm, model, scalar, "-"))
+            pin_ns = times.get(("pinocchio", algorithm, model, scalar, "-"))
+            err = errors.get((model, algorithm, scalar), (None, None))
+            growth = GROWTH_RE.match(model)
+            records.append({
+                "compiler": compiler,
+                "model": model,
+                "algorithm": algorithm,
+                "scalar": scalar,
+                "tree": tree,
+                "ns": ns,
+                "kdl_ns": kdl_ns,
+                "pinocchio_ns": pin_ns,
+                "ratio_to_control_period": ns / CONTROL_PERIOD_NS,
+                "ratio_to_kdl": ratio(ns, kdl_ns),
+                "ratio_to_pinocchio": ratio(ns, pin_ns),
+                "max_rel_error": err[0],
+                "median_rel_error": err[1],
+                "kind": "growth" if growth else "model",
+                "bodies": int(growth.group(2)) if growth else None,
+                "time": time_kind,
+            })
+    return records
+
+
+def find(records, **kw):
+    for r in records:
+        if all(r.get(k) == v for k, v in kw.items()):
+            return r
+    return None
+
+
+def model_names(records):
+    names = []
+    for r in records:
+        if r["kind"] == "model" and r["model"] not in names:
+            names.append(r["model"])
+    return names
+
+
+def algorithm_sort_key(a):
+    return ALGORITHMS.index(a) if a in ALGORITHMS else len(ALGORITHMS)
+
+
+def headline_rows(records, compilers):
+    rows = []
+    algorithms = sorted({r["algorithm"] for r in records if r["model"] == TARGET_MODEL}, key=algorithm_sort_key)
+    for algorithm in algorithms:
+        row = [ALGORITHM_TITLES.get(algorithm, algorithm)]
+        for c in compilers:
+            r = find(records, compiler=c, model=TARGET_MODEL, algorithm=algorithm, scalar="double", tree="static")
+            row.append(fmt_ns(r["ns"] if r else None))
+        for c in compilers:
+            r = find(records, compiler=c, model=TARGET_MODEL, algorithm=algorithm, scalar="double", tree="static")
+            row.append(fmt_ratio(r["ratio_to_pinocchio"] if r else None))
+        for c in compilers:
+            r = find(records, compiler=c, model=TARGET_MODEL, algorithm=algorithm, scalar="double", tree="static")
+            row.append(fmt_ratio(r["ratio_to_kdl"] if r else None))
+        r = find(records, model=TARGET_MODEL, algorithm=algorithm, scalar="double", tree="static")
+        row.append(f"{r['ratio_to_control_period']:.1e}" if r else "–")
+        row.append(fmt_err(r["max_rel_error"] if r else None))
+        rows.append(row)
+    header = ["algorithm"] + [f"time {c}" for c in compilers] + [f"÷ Pinocchio {c}" for c in compilers] + \
+             [f"÷ KDL {c}" for c in compilers] + ["÷ 2 ms", "max rel. error"]
+    return header, rows
+
+
+def target_rows(records, compilers, have_pinocchio):
+    rows = []
+    for title, algorithm, peer, peer_algorithm, target in TARGETS:
+        for c in compilers:
+            r = find(records, compiler=c, model=TARGET_MODEL, algorithm=algorithm, scalar="double", tree="static")
+            peer_ns = None
+            if r:
+                peer_ns = r["pinocchio_ns"] if peer == "pinocchio" else r["kdl_ns"]
+            measured = ratio(r["ns"] if r else None, peer_ns)
+            if measured is None:
+                verdict = "absent" if peer == "pinocchio" and not have_pinocchio.get(c) else "not measured"
+                rows.append([title, c, f"≤ {target}", "–", verdict, "–"])
+                continue
+            ok = measured <= target
+            gap = "" if ok else f"{measured / target:.2f}× too slow: needs {(1 - target / measured) * 100:.0f}% less time"
+            rows.append([title, c, f"≤ {target}", f"{measured:.3f}", "pass" if ok else "miss", gap or "–"])
+    return ["target", "compiler", "target ratio", "measured ratio", "pass/miss", "gap"], rows
+
+
+def write_charts(out_dir, records, compilers, notes):
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        notes.append("matplotlib is not installed: no charts (run scripts/peers.sh).")
+        return []
+    charts = []
+
+    # 1. time per algorithm and model, double, compile-time tree, with the 2 ms line
+    models = model_names(records)
+    algorithms = [a for a in ALGORITHMS if any(r["algorithm"] == a and r["kind"] == "model" for r in records)]
+    fig, axes = plt.subplots(1, max(1, len(models)), figsize=(5.5 * max(1, len(models)), 5), squeeze=False)
+    series = [(c, "spatial") for c in compilers] + [(c, "pinocchio") for c in compilers] + [(c, "kdl") for c in compilers]
+    for ax, model in zip(axes[0], models):
+        width = 0.8 / len(series)
+        plotted = False
+        for s_i, (c, impl) in enumerate(series):
+            xs, ys = [], []
+            for a_i, a in enumerate(algorithms):
+                r = find(records, compiler=c, model=model, algorithm=a, scalar="double", tree="static")
+                if not r:
+                    continue
+                v = r["ns"] if impl == "spatial" else (r["pinocchio_ns"] if impl == "pinocchio" else r["kdl_ns"])
+                if v:
+                    xs.append(a_i + (s_i - len(series) / 2 + 0.5) * width)
+                    ys.append(v)
+            if xs:
+                ax.bar(xs, ys, width=width, label=f"{impl} ({c})")
+                plotted = True
+        ax.axhline(CONTROL_PERIOD_NS, color="red", linestyle="--", label="2 ms control period")
+        ax.set_yscale("log")
+        ax.set_xticks(range(len(algorithms)))
+        ax.set_xticklabels(algorithms, rotation=45, ha="right", fontsize=8)
+        ax.set_title(f"{model} (double)")
+        ax.set_ylabel("time per call [ns]")
+        if plotted:
+            ax.legend(fontsize=7)
+    fig.tight_layout()
+    path = os.path.join(out_dir, "time_per_algorithm.png")
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    charts.append(("Time per call, per algorithm and model (double, compile-time tree), with the 2 ms line",
+                   os.path.basename(path)))
+
+    # 2. run time against error, with the Pareto front
+    fig, axes = plt.subplots(2, max(1, len(compilers)), figsize=(6.5 * max(1, len(compilers)), 10), squeeze=False)
+    for col, c in enumerate(compilers):
+        pts = variant_points(records, c)
+        ax = axes[0][col]
+        if pts:
+            front = grouped_pareto(pts)
+            for i, (x, y, label, scalar, group) in enumerate(pts):
+                ax.scatter([x], [y], marker="o" if scalar == "double" else "^",
+                           color="tab:red" if group == "forward dynamics" else
+                           ("tab:blue" if scalar == "double" else "tab:orange"), zorder=3)
+                ax.annotate(label, (x, y), fontsize=6, xytext=(3, 3), textcoords="offset points")
+            fd = sorted((pts[i][0], pts[i][1]) for i in front if pts[i][4] == "forward dynamics")
+            if fd:
+                ax.step([p[0] for p in fd], [p[1] for p in fd], where="post", color="green",
+                        label="Pareto front of forward dynamics")
+            fp = [(pts[i][0], pts[i][1]) for i in front]
+            ax.scatter([p[0] for p in fp], [p[1] for p in fp], s=90, facecolors="none", edgecolors="green", zorder=4,
+                       label="on the Pareto front of its result")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("median time per call [ns]")
+        ax.set_ylabel("max relative error vs long double")
+        ax.set_title(f"{TARGET_MODEL}: variants per call ({c}; ○ double, △ float, red: forward dynamics)")
+        ax.legend(fontsize=7)
+        ax = axes[1][col]
+        sim = simulation_points(compilers[c])
+        if sim:
+            front = pareto_front([(p["ns_per_simulated_second"], p["max_abs_error_q"]) for p in sim])
+            methods = sorted({p["method"] for p in sim})
+            for m_i, m in enumerate(methods):
+                sel = [p for p in sim if p["method"] == m]
+                ax.plot([p["ns_per_simulated_second"] for p in sel], [p["max_abs_error_q"] for p in sel], marker="o",
+                        label=m)
+                for p in sel:
+                    ax.annotate(f"{p['dt']:g}", (p["ns_per_simulated_second"], p["max_abs_error_q"]), fontsize=6,
+                                xytext=(3, 3), textcoords="offset points")
+            fp = sorted((sim[i]["ns_per_simulated_second"], sim[i]["max_abs_error_q"]) for i in front)
+            ax.step([p[0] for p in fp], [p[1] for p in fp], where="post", color="green", linestyle=":",
+                    label="Pareto front")
+            ax.scatter([p[0] for p in fp], [p[1] for p in fp], s=90, facecolors="none", edgecolors="green", zorder=4)
+            ax.axvline(1e9, color="red", linestyle="--", label="real time (1 s per s)")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("CPU time per simulated second [ns]")
+        ax.set_ylabel("max |q − q_ref| after 1 s [rad]")
+        ax.set_title(f"integrators on {TARGET_MODEL} ({c}; labels: step [s])")
+        ax.legend(fontsize=7)
+    fig.tight_layout()
+    path = os.path.join(out_dir, "runtime_vs_error.png")
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    charts.append(("Run time against error, Pareto front in green", os.path.basename(path)))
+
+    # 3. cost growth, log-log
+    growth = [r for r in records if r["kind"] == "growth"]
+    if growth:
+        fig, axes = plt.subplots(1, max(1, len(compilers)), figsize=(7 * max(1, len(compilers)), 5.5), squeeze=False)
+        for col, c in enumerate(compilers):
+            ax = axes[0][col]
+            for key, pts in growth_series(growth, c).items():
+                algorithm, shape, tree = key
+                k = fit_exponent(pts)
+                ax.plot([p[0] for p in pts], [p[1] for p in pts], marker="o" if tree == "runtime" else "s",
+                        linestyle="-" if shape == "chain" else "--",
+                        label=f"{algorithm} {shape} {tree} (k={k:.2f})" if k is not None else f"{algorithm} {shape}")
+            ax.set_xscale("log", base=2)
+            ax.set_yscale("log")
+            ax.set_xlabel("bodies n")
+            ax.set_ylabel("time per call [ns]")
+            ax.set_title(f"cost growth ({c}); solid: chains, dashed: binary trees")
+            ax.legend(fontsize=6, ncol=2)
+        fig.tight_layout()
+        path = os.path.join(out_dir, "cost_growth.png")
+        fig.savefig(path, dpi=110)
+        plt.close(fig)
+        charts.append(("Cost growth, log–log, with the fitted exponent k of time ∝ n^k", os.path.basename(path)))
+    return charts
+
+
+def variant_points(records, compiler):
+    """(time, error, label, scalar, group) for every algorithm variant of the target model that has both."""
+    pts = []
+    for r in records:
+        if (r["compiler"] == compiler and r["model"] == TARGET_MODEL and r["tree"] == "static"
+                and r["ns"] and r["max_rel_error"]):
+            pts.append((r["ns"], r["max_rel_error"], f"{r['algorithm']} {r['scalar']}", r["scalar"],
+                        result_group(r["algorithm"])))
+    return pts
+
+
+def grouped_pareto(pts):
+    """Indices on the Pareto front of their result group (variants computing the same result)."""
+    front = set()
+    for group in {p[4] for p in pts}:
+        idx = [i for i, p in enumerate(pts) if p[4] == group]
+        front |= {idx[j] for j in pareto_front([(pts[i][0], pts[i][1]) for i in idx])}
+    return front
+
+
+def simulation_points(entry):
+    if not entry.get("error"):
+        return []
+    return [p for p in entry["error"].get("simulation", {}).get("points", [])
+            if p.get("ns_per_simulated_second") and p.get("max_abs_error_q")]
+
+
+def growth_series(growth, compiler):
+    series = {}
+    for r in growth:
+        if r["compiler"] != compiler:
+            continue
+        shape = GROWTH_RE.match(r["model"]).group(1)
+        series.setdefault((r["algorithm"], shape, r["tree"]), []).append((r["bodies"], r["ns"]))
+    return {k: sorted(v) for k, v in sorted(series.items(), key=lambda kv: (algorithm_sort_key(kv[0][0]), kv[0][1:]))}
+
+
+def write_report(out_dir, compilers, records, time_kind, charts_enabled=True):
+    os.makedirs(out_dir, exist_ok=True)
+    notes = []
+    machine = machine_info()
+    have_pinocchio = {c: any(k[0] == "pinocchio" for k in e["times"]) for c, e in compilers.items()}
+    have_kdl = {c: any(k[0] == "kdl" for k in e["times"]) for c, e in compilers.items()}
+    charts = write_charts(out_dir, records, compilers, notes) if charts_enabled else []
+
+    lines = []
+    w = lines.append
+    now = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+    w("# spatial: benchmark report")
+    w("")
+    w(f"Generated {now} by `tools/report.py` from the benchmark and error-study outputs of this run "
+      f"(`bash scripts/main.sh`). Every number below was measured in that run unless marked *fixed* or *quoted*.")
+    w("")
+    w("## Machine and build")
+    w("")
+    rows = [["CPU", machine.get("model_name")],
+            ["cores / logical CPUs", f"{machine.get('cores') or '?'} / {machine.get('cpus')}"],
+            ["SIMD", ", ".join(machine.get("simd", [])) or "?"],
+            ["kernel", machine.get("kernel")]]
+    for c, e in compilers.items():
+        rows.append([f"{c}: compiler", first_context_value(e, "spatial_compiler") or "?"])
+        rows.append([f"{c}: flags (spatial, Pinocchio)", f"`{context_value(e, 'bench_algorithms', 'spatial_flags') or '?'}`"])
+        if have_kdl[c]:
+            rows.append([f"{c}: flags (KDL glue)", f"`{context_value(e, 'bench_kdl', 'spatial_flags') or '?'}` "
+                         "(no -march=native: Debian's liborocos-kdl is built for generic x86-64)"])
+        rows.append([f"{c}: Eigen (spatial / Pinocchio)",
+                     f"{context_value(e, 'bench_algorithms', 'spatial_eigen') or '?'} / "
+                     f"{context_value(e, 'bench_pinocchio', 'spatial_eigen') or '–'}"])
+        rows.append([f"{c}: benchmark date, load average", f"{first_context_value(e, 'date') or '?'}, "
+                     f"{', '.join(f'{x:.2f}' for x in (first_context_value(e, 'load_avg') or []))}"])
+    kdl_version = next((context_value(e, "bench_kdl", "kdl_version") for e in compilers.values()
+                        if context_value(e, "bench_kdl", "kdl_version")), None)
+    pin_version = next((context_value(e, "bench_pinocchio", "pinocchio_version") for e in compilers.values()
+                        if context_value(e, "bench_pinocchio", "pinocchio_version")), None)
+    rows.append(["KDL", kdl_version or "absent"])
+    rows.append(["Pinocchio", f"{pin_version} (pip package `pin`, header-only)" if pin_version else "absent"])
+    lib_type = next((first_context_value(e, "library_build_type") for e in compilers.values()
+                     if first_context_value(e, "library_build_type")), None)
+    if lib_type:
+        rows.append(["Google Benchmark library", f"{lib_type} build (Debian's libbenchmark; only its bookkeeping "
+                     "between timed batches, not the timed loop, runs in that library)"])
+    rows.append(["time statistic", f"median over repetitions of the {'CPU' if time_kind == 'cpu' else 'wall'} time "
+                 "per call; each call takes a fresh state from a pool of 256 random states"])
+    w(md_table(["", ""], rows))
+    w("")
+
+    compiler_list = list(compilers)
+    w(f"## Headline: {TARGET_MODEL}, double, compile-time tree")
+    w("")
+    header, rows = headline_rows(records, compiler_list)
+    w(md_table(header, rows))
+    w("")
+    w("÷ Pinocchio, ÷ KDL: our time divided by the peer's (below 1: we are faster), same compiler, same model and "
+      "inputs. ÷ 2 ms: fraction of the 2 ms control period. Errors: against long double (see below).")
+    w("")
+
+    w("## Performance targets (issue 4)")
+    w("")
+    header, rows = target_rows(records, compiler_list, have_pinocchio)
+    w(md_table(header, rows))
+    w("")
+    w("Measured ratio = median time of spatial (compile-time tree, double) ÷ median time of the peer call, same run, "
+      "same compiler and flags. Where a target is missed, `valgrind --tool=callgrind` on a build with "
+      "`-march=x86-64-v3` (valgrind has no AVX-512) shows where the instructions go.")
+    w("")
+
+    w("## Reference rows")
+    w("")
+    rows = []
+    for title, model, algorithm, matlab_ns in MATLAB_ROWS:
+        row = [title, fmt_ns(matlab_ns)]
+        for c in compiler_list:
+            r = find(records, compiler=c, model=model, algorithm=algorithm, scalar="double", tree="static")
+            row.append(f"{fmt_ns(r['ns'])} ({r['ns'] / matlab_ns:.1e})" if r else "–")
+        rows.append(row)
+    w("*Fixed*: the reference study's MATLAB times (issue 4), against ours (in parentheses: our time ÷ MATLAB's).")
+    w("")
+    w(md_table(["reference study (MATLAB)", "time (fixed)"] + [f"spatial {c}" for c in compiler_list], rows))
+    w("")
+    w("*Quoted* from issue 4 for orientation (fastest peer builds measured on this kind of machine for a 21-joint "
+      "humanoid; not measured here, and not on our random-inertia stance21):")
+    w("")
+    rows = []
+    for who, what, ns in ORIENTATION_ROWS:
+        algorithm = {"sparse LTDL": "LTDL"}.get(what, what)
+        row = [who, what, fmt_ns(ns)]
+        for c in compiler_list:
+            r = find(records, compiler=c, model=TARGET_MODEL, algorithm=algorithm, scalar="double", tree="static") \
+                if algorithm else None
+            row.append(fmt_ns(r["ns"]) if r else "–")
+        rows.append(row)
+    w(md_table(["peer build", "call", "time (quoted)"] + [f"spatial {c}, {TARGET_MODEL}" for c in compiler_list], rows))
+    w("")
+
+    w("## Time per call, every model and algorithm")
+    w("")
+    w("static = compile-time tree, runtime = run-time tree. Peer columns: the peer's time for the same model, "
+      "algorithm and scalar ('–' where the peer has no such call or is absent).")
+    w("")
+    for model in model_names(records):
+        w(f"### {model}")
+        w("")
+        rows = []
+        keys = sorted({(r["algorithm"], r["scalar"], r["tree"]) for r in records if r["model"] == model},
+                      key=lambda k: (algorithm_sort_key(k[0]), k[1], k[2] != "static"))
+        for algorithm, scalar, tree in keys:
+            row = [algorithm, scalar, tree]
+            for c in compiler_list:
+                r = find(records, compiler=c, model=model, algorithm=algorithm, scalar=scalar, tree=tree)
+                row += [fmt_ns(r["ns"]) if r else "–", f"{r['ratio_to_control_period']:.1e}" if r else "–",
+                        fmt_ns(r["pinocchio_ns"]) if r else "–", fmt_ratio(r["ratio_to_pinocchio"]) if r else "–",
+                        fmt_ns(r["kdl_ns"]) if r else "–", fmt_ratio(r["ratio_to_kdl"]) if r else "–"]
+            r = find(records, model=model, algorithm=algorithm, scalar=scalar)
+            row.append(fmt_err(r["max_rel_error"] if r else None))
+            rows.append(row)
+        header = ["algorithm", "scalar", "tree"]
+        for c in compiler_list:
+            header += [f"{c}", f"{c} ÷ 2 ms", f"Pinocchio {c}", f"÷ Pin. {c}", f"KDL {c}", f"÷ KDL {c}"]
+        header.append("max rel. error")
+        w(md_table(header, rows))
+        w("")
+    w("Peer calls: " + "; ".join(f"{peer} {ALGORITHM_TITLES.get(a, a)} = `{call}`"
+                                 for (peer, a), call in PEER_CALLS.items()) + ". Pinocchio's crba computes the upper "
+      "triangle of H only (ours fills both triangles); its forward dynamics by CRBA recomputes the kinematics in "
+      "nonLinearEffects (ours shares them). KDL's ChainFdSolver_RNE = ChainDynParam inertia + RNEA bias + dense LDLᵀ, "
+      "listed against our forward dynamics by CRBA + LTDL. Our dense-Cholesky variant (FD_CRBA_DenseLLT) calls "
+      "bias_forces and crba separately, each computing its own transforms.")
+    w("")
+
+    w("## Error against long double")
+    w("")
+    first = next((e["error"] for e in compilers.values() if e.get("error")), None)
+    if first:
+        w(f"Error = {first.get('error_definition')} over {first.get('samples')} random states; reference: the same "
+          f"algorithm in long double ({first.get('long_double_digits')}-bit mantissa) on `model.cast<long double>()`. "
+          "Float and double run on the double model and inputs cast down (parameter and input rounding included). "
+          "The errors are measured on the run-time tree, which runs the same per-joint code as the compile-time tree.")
+        w("")
+        rows = []
+        keys = sorted({(p["model"], p["algorithm"]) for p in first["algorithms"]},
+                      key=lambda k: (model_names(records).index(k[0]) if k[0] in model_names(records) else 99,
+                                     algorithm_sort_key(k[1])))
+        for model, algorithm in keys:
+            row = [model, algorithm]
+            for c in compiler_list:
+                err = compilers[c].get("error") or {}
+                by = {(p["model"], p["algorithm"], p["scalar"]): p for p in err.get("algorithms", [])}
+                for scalar in ("float", "double"):
+                    p = by.get((model, algorithm, scalar))
+                    row.append(fmt_err(p["max_rel_error"]) if p else "–")
+            rows.append(row)
+        header = ["model", "algorithm"] + [f"{s} ({c})" for c in compiler_list for s in ("float", "double")]
+        w(md_table(header, rows))
+        w("")
+    else:
+        w("No error study output.")
+        w("")
+
+    w(f"## Run time against error ({TARGET_MODEL})")
+    w("")
+    w("One point per variant: x = median time per call (compile-time tree), y = max relative error. "
+      "★ = on the Pareto front of its result: no other variant computing the same result is both faster and more "
+      "accurate. The three forward dynamics (ABA, CRBA + tree LTDL, CRBA + dense Cholesky; float and double) "
+      "compete with each other; every other algorithm competes with itself in the other scalar type.")
+    w("")
+    for c in compiler_list:
+        pts = variant_points(records, c)
+        if not pts:
+            continue
+        front = grouped_pareto(pts)
+        rows = [[group, label, fmt_ns(x), fmt_err(y), "★" if i in front else ""]
+                for i, (x, y, label, _, group) in sorted(enumerate(pts), key=lambda t: (t[1][4], t[1][0]))]
+        w(f"**{c}**")
+        w("")
+        w(md_table(["result", "variant", "time", "max rel. error", "Pareto"], rows))
+        w("")
+    sim_first = next((e["error"]["simulation"] for e in compilers.values() if e.get("error")), None)
+    if sim_first:
+        ref = sim_first.get("reference", {})
+        w(f"### Integrators: {sim_first.get('model')}, {sim_first.get('duration_s')} s simulated")
+        w("")
+        w(f"From a random state, τ = −{sim_first.get('damping')} q̇, forward dynamics by ABA (compile-time tree, "
+          f"double). Error = max |q(1 s) − q_ref(1 s)| [rad] against {ref.get('method')} in {ref.get('scalar')} with "
+          f"step {ref.get('dt')} s. Cost = median CPU time per simulated second (×1e-9 = fraction of real time).")
+        w("")
+        rows = []
+        per_c = {c: simulation_points(e) for c, e in compilers.items()}
+        fronts = {c: pareto_front([(p["ns_per_simulated_second"], p["max_abs_error_q"]) for p in pts])
+                  for c, pts in per_c.items()}
+        base = per_c[compiler_list[0]] if compiler_list else []
+        for i, p in enumerate(base):
+            row = [p["method"], f"{p['dt']:g}", p["steps"] * p["evaluations_per_step"]]
+            for c in compiler_list:
+                match = [j for j, q in enumerate(per_c[c]) if q["method"] == p["method"] and q["dt"] == p["dt"]]
+                if match:
+                    q = per_c[c][match[0]]
+                    row += [fmt_ns(q["ns_per_simulated_second"]), fmt_err(q["max_abs_error_q"]),
+                            "★" if match[0] in fronts[c] else ""]
+                else:
+                    row += ["–", "–", ""]
+            rows.append(row)
+        header = ["method", "step [s]", "ABA calls"]
+        for c in compiler_list:
+            header += [f"cost/sim. s ({c})", f"error [rad] ({c})", f"Pareto ({c})"]
+        w(md_table(header, rows))
+        w("")
+    w("**Pending (HOOK hoap3)**: full 21-DoF model vs reduced models (locked limbs) vs double pendulum for the "
+      "resultant force of the stepping scene: needs the HOAP-3 models (src/models/).")
+    w("")
+
+    growth = [r for r in records if r["kind"] == "growth"]
+    if growth:
+        w("## Cost growth")
+        w("")
+        w("Chains and balanced binary trees of n bodies (revolute joints cycling x, y, z; random inertias), double. "
+          "k = least-squares slope of log(time) against log(n), i.e. time ∝ n^k. Compile-time trees only up to "
+          "the size given by SPATIAL_GROWTH_MAX_STATIC (unrolling larger trees costs minutes of compile time); "
+          "run-time trees for every size.")
+        w("")
+        rows = []
+        for c in compiler_list:
+            for (algorithm, shape, tree), pts in growth_series(growth, c).items():
+                k = fit_exponent(pts)
+                rows.append([c, algorithm, shape, tree, f"{pts[0][0]}–{pts[-1][0]}",
+                             f"{k:.2f}" if k is not None else "–",
+                             " · ".join(f"{n}: {fmt_ns(t)}" for n, t in pts)])
+        w(md_table(["compiler", "algorithm", "shape", "tree", "n", "k", "time per call by n"], rows))
+        w("")
+
+    if charts:
+        w("## Charts")
+        w("")
+        for title, name in charts:
+            w(f"**{title}**")
+            w("")
+            w(f"![{title}]({name})")
+            w("")
+    if notes or not all(have_pinocchio.values()):
+        w("## Notes")
+        w("")
+        for c, ok in have_pinocchio.items():
+            if not ok:
+                w(f"- Pinocchio: absent for {c} (scripts/peers.sh could not install `pin`, or the build did not "
+                  f"find it); its columns are '–' and its targets 'absent'.")
+        for n in notes:
+            w(f"- {n}")
+        w("")
+
+    with open(os.path.join(out_dir, "report.md"), "w") as f:
+        f.write("\n".join(lines))
+    with open(os.path.join(out_dir, "summary.json"), "w") as f:
+        json.dump(records, f, indent=1)
+    return notes
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--input", default="build/report/raw")
+    ap.add_argument("--output", default="build/report")
+    ap.add_argument("--time", choices=["cpu", "real"], default="cpu")
+    ap.add_argument("--no-charts", action="store_true")
+    args = ap.parse_args()
+
+    compilers = read_inputs(args.input, args.time)
+    if not compilers:
+        sys.exit(f"report.py: no benchmark output under {args.input}")
+    records = build(compilers, args.time)
+    write_report(args.output, compilers, records, args.time, charts_enabled=not args.no_charts)
+
+    header, rows = headline_rows(records, list(compilers))
+    print(f"\nHeadline: {TARGET_MODEL}, double, compile-time tree ({args.time} time, median)\n")
+    print(text_table(header, rows))
+    have_pinocchio = {c: any(k[0] == "pinocchio" for k in e["times"]) for c, e in compilers.items()}
+    header, rows = target_rows(records, list(compilers), have_pinocchio)
+    print("\nPerformance targets (issue 4)\n")
+    print(text_table(header, rows))
+    print(f"\nreport.py: wrote {os.path.join(args.output, 'report.md')}, summary.json and charts")
+
+
+if __name__ == "__main__":
+    main()
