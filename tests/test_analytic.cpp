@@ -214,7 +214,7 @@ TEST(DoubleInvertedPendulum, AllAlgorithmsMatchThesisEquations) {
     const double det = H_ref(0, 0) * H_ref(1, 1) - H_ref(0, 1) * H_ref(1, 0);
     const Eigen::Vector2d qdd_ref((H_ref(1, 1) * rhs[0] - H_ref(0, 1) * rhs[1]) / det,
                                   (H_ref(0, 0) * rhs[1] - H_ref(1, 0) * rhs[0]) / det);
-    // H's condition number is at most ~40 for these masses; 1e-11 relative leaves room for it.
+    // cond(H) is at most ~52 for these masses and lengths; 1e-11 relative leaves room for it.
     const double qscale = 1 + qdd_ref.cwiseAbs().maxCoeff();
     const double e_aba = abs_diff(aba(model, d, q, qd, Vec(tau)), qdd_ref) / qscale;
     const double e_fd = abs_diff(forward_dynamics_crba(model, d, q, qd, Vec(tau)), qdd_ref) / qscale;
