@@ -7,14 +7,12 @@
 /// algorithms, double and float, compile-time and run-time tree), bench_kdl and bench_pinocchio (the peers, built
 /// from the very same model), error_study (accuracy against long double) and the report.
 ///
-/// Today's models carry random geometry and inertias (`random_model`) on fixed topologies:
-///  - stance21:  the HOAP-3 single-support topology of the reference study (stance foot → waist: 7 bodies, two
-///               4-body arms and a 6-body leg), revolute joints about z;
-///  - torso8:    a torso-like tree: two 4-body arms hanging from the base (parents -1,-1,0,1,2,3,4,5);
-///  - pendulum2: a 2-body chain (double pendulum).
-/// HOOK(hoap3): when the HOAP-3 models land (urdf/hoap3.urdf, src/models/), add them here, e.g.
-///   bench_model("hoap3_stance21", hoap3::stance21_model(), hoap3::stance21_limits()),
-/// and inputs are then drawn within their joint limits (see `InputRange`).
+/// The models are the reference study's HOAP-3 models, generated at build time from urdf/ (src/models/, target
+/// spatial::hoap3_models), with inputs drawn within each joint's URDF limits:
+///  - stance21:  `hoap3_stance_right`, the whole body in single support on the right foot (21 DoF; head and wrists
+///               locked), rooted at the right sole;
+///  - torso8:    `hoap3_torso`, the chest with both arms (8 DoF), rooted at the chest;
+///  - pendulum2: `hoap3_double_pendulum`, the study's double inverted pendulum (2 DoF; no URDF limits: ±π).
 
 // With -march=native on an AVX-512 machine, GCC 12 reports false positives (uninitialized, array bounds,
 // string-op over-read) inside its own AVX-512 intrinsic headers when Eigen's packet code is inlined: in Eigen's
@@ -40,6 +38,12 @@
 
 #include "support/random_model.hpp"
 
+#include <spatial/models/hoap3_double_pendulum.hpp>
+#include <spatial/models/hoap3_stance_right.hpp>
+#include <spatial/models/hoap3_torso.hpp>
+
+#include <array>
+#include <cmath>
 #include <cstddef>
 #include <random>
 #include <string>
@@ -50,14 +54,6 @@
 namespace spatial::bench {
 
 inline constexpr JointType Rz = JointType::RevoluteZ;
-
-/// The reference study's 21-DoF single-support model (0-based parents; -1 = the stance foot).
-using Stance21Tree = Tree<Parents<-1, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 6, 11, 12, 13, 6, 15, 16, 17, 18, 19>,
-                          Joints<Rz, Rz, Rz, Rz, Rz, Rz, Rz, Rz, Rz, Rz, Rz, Rz, Rz, Rz, Rz, Rz, Rz, Rz, Rz, Rz, Rz>>;
-/// A torso-like tree: two 4-body arms from the base.
-using Torso8Tree = Tree<Parents<-1, -1, 0, 1, 2, 3, 4, 5>, Joints<Rz, Rz, Rz, Rz, Rz, Rz, Rz, Rz>>;
-/// A double pendulum.
-using Pendulum2Tree = Tree<Parents<-1, 0>, Joints<Rz, Rz>>;
 
 namespace detail {
 template <int N, class Seq = std::make_integer_sequence<int, N>>
@@ -121,8 +117,20 @@ Model<S> to_runtime(const Model<S, TreeT>& m) {
 struct InputRange {
   Eigen::VectorXd lower, upper;
 };
-/// ±1 rad for every joint: the default until a model brings its joint limits (HOOK(hoap3)).
+/// ±1 rad for every joint: for models without joint limits (random trees).
 inline InputRange unit_range(int n) { return {Eigen::VectorXd::Constant(n, -1.0), Eigen::VectorXd::Constant(n, 1.0)}; }
+/// A generated model's URDF position limits; a joint without limits (±kInf) gets [−π, π].
+template <std::size_t N>
+InputRange limit_range(const std::array<double, N>& lower, const std::array<double, N>& upper) {
+  InputRange r{Eigen::VectorXd(static_cast<Eigen::Index>(N)), Eigen::VectorXd(static_cast<Eigen::Index>(N))};
+  const double pi = 3.14159265358979323846;
+  for (std::size_t i = 0; i < N; ++i) {
+    const auto k = static_cast<Eigen::Index>(i);
+    r.lower[k] = std::isfinite(lower[i]) ? lower[i] : -pi;
+    r.upper[k] = std::isfinite(upper[i]) ? upper[i] : pi;
+  }
+  return r;
+}
 
 /// One entry of the model list.
 template <class TreeT>
@@ -142,12 +150,20 @@ BenchModel<TreeT> bench_model(std::string name, Model<double, TreeT> model, Inpu
   return {std::move(name), std::move(model), std::move(range)};
 }
 
+/// The generated HOAP-3 models' topologies (compile-time trees).
+using Stance21Tree = models::hoap3_stance_right::Tree;
+using Torso8Tree = models::hoap3_torso::Tree;
+using Pendulum2Tree = models::hoap3_double_pendulum::Tree;
+
 /// THE LIST of bench models. Adding a model is one line here.
 inline const auto& bench_models() {
+  namespace stance = models::hoap3_stance_right;
+  namespace torso = models::hoap3_torso;
+  namespace pendulum = models::hoap3_double_pendulum;
   static const auto models = std::make_tuple(  //
-      bench_model("stance21", random_model<Stance21Tree>(2026)),
-      bench_model("torso8", random_model<Torso8Tree>(2027)),
-      bench_model("pendulum2", random_model<Pendulum2Tree>(2028)));
+      bench_model("stance21", stance::model(), limit_range(stance::lower, stance::upper)),
+      bench_model("torso8", torso::model(), limit_range(torso::lower, torso::upper)),
+      bench_model("pendulum2", pendulum::model(), limit_range(pendulum::lower, pendulum::upper)));
   return models;
 }
 

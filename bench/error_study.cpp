@@ -32,7 +32,7 @@ using namespace spatial;
 using namespace spatial::bench;
 
 constexpr int kSamples = 64;
-/// The model the integrators run on (HOOK(hoap3): the HOAP-3 stance model once it is in the list).
+/// The model the integrators run on: the HOAP-3 stance model (21 DoF).
 const std::string kSimulationModel = "stance21";
 
 template <class A, class B>

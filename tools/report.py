@@ -579,7 +579,10 @@ def write_report(out_dir, compilers, records, time_kind, charts_enabled=True):
         rows.append(["Google Benchmark library", f"{lib_type} build (Debian's libbenchmark; only its bookkeeping "
                      "between timed batches, not the timed loop, runs in that library)"])
     rows.append(["time statistic", f"median over repetitions of the {'CPU' if time_kind == 'cpu' else 'wall'} time "
-                 "per call; each call takes a fresh state from a pool of 256 random states"])
+                 "per call; each call takes a fresh state from a pool of 256 random states (q uniform within the URDF "
+                 "joint limits, q̇, q̈, τ uniform in [−1, 1])"])
+    rows.append(["models", "HOAP-3 from urdf/hoap3.urdf (src/models/): stance21 = whole body on the right foot "
+                 "(21 DoF), torso8 = chest and arms (8 DoF), pendulum2 = the study's double inverted pendulum"])
     w(md_table(["", ""], rows))
     w("")
 
@@ -617,7 +620,7 @@ def write_report(out_dir, compilers, records, time_kind, charts_enabled=True):
     w(md_table(["reference study (MATLAB)", "time (fixed)"] + [f"spatial {c}" for c in compiler_list], rows))
     w("")
     w("*Quoted* from issue 4 for orientation (fastest peer builds measured on this kind of machine for a 21-joint "
-      "humanoid; not measured here, and not on our random-inertia stance21):")
+      "humanoid; not measured here, and on their own humanoid models, not on our HOAP-3 stance21):")
     w("")
     rows = []
     for who, what, ns in ORIENTATION_ROWS:
