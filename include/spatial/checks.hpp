@@ -5,7 +5,8 @@
 /// The algorithms themselves never check their inputs (a check per call would cost as much as a small tree's
 /// arithmetic). What they do with bad numbers, by IEEE 754 propagation:
 ///  - a NaN or ±Inf in qᵢ makes ⁱX_λ(i) NaN, so every result that depends on body i or its subtree is NaN
-///    (RNEA: τ of joint i and of its ancestors; CRBA: the rows and columns of i's ancestors and descendants);
+///    (RNEA: τ of joint i, of its descendants and of its ancestors; CRBA: H(a, k) for every strict ancestor a of i
+///    and every k related to i, since ⁱX_λ(i) carries the subtree's inertia up; forward dynamics: in general all);
 ///  - a NaN or ±Inf in q̇ᵢ, q̈ᵢ or τᵢ spreads the same way through the bodies it reaches; ±Inf usually turns into
 ///    NaN on the way (Inf − Inf, 0 · Inf);
 ///  - nothing crashes, throws or allocates, the model is never written (it is `const`), and `Data` is overwritten
