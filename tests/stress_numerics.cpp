@@ -456,19 +456,22 @@ TEST(Stress, Hoap3AtLimitsAndSingularities) {
 
 struct Drift {
   double rel;     // max_t |E(t) − E(0)| / max_t (kinetic energy), over the whole run
-  double rel_1s;  // the same over the first second
+  double rel_1s;  // the same over the first second (window())
   double steps;   // Σ_k |E_{k+1} − E_k| / max_t (kinetic energy): energy changed by the steps, summed
   double steps_1s;  // the same over the first second
   double ke_max;  // max_t kinetic energy
   double v_max;   // max_t max_i |q̇ᵢ|
 };
 
+/// The window over which drifts are asserted: the first second, or the whole run when it is shorter.
+double window(double duration) { return std::min(1.0, duration); }
+
 Drift simulate(st::Integrator method, const Model<double>& m, const VecD& q0, double h, double duration) {
   Data<double> d(m);
   VecD q = q0, qd = VecD::Zero(m.size());
   const double e0 = kinetic_energy(m, d, q, qd) + potential_energy(m, d, q);
   double worst = 0.0, worst_1s = 0.0, sum = 0.0, sum_1s = 0.0, ke_max = 0.0, v_max = 0.0, prev = e0;
-  const long steps = std::lround(duration / h), steps_1s = std::lround(1.0 / h);
+  const long steps = std::lround(duration / h), steps_1s = std::lround(window(duration) / h);
   for (long s = 0; s < steps; ++s) {
     st::integrator_step(method, m, d, q, qd, h);
     const double ke = kinetic_energy(m, d, q, qd);
@@ -503,8 +506,12 @@ TEST(Stress, PassiveSimulationEnergyDrift) {
   // speeds), and neither the maximum of |E(t) − E(0)| nor the energy changed by the steps, Σ|E_{k+1} − E_k|, is
   // comparable between them over a long run (measured: up to 1.5× the bound over 10 s). Both are asserted over
   // the first second and recorded, not asserted, over the whole run (10 s in the long form).
-  const double duration = long_form() ? 10.0 : 1.0;
+  // The quick form simulates 0.25 s: the robots are still falling (|q̇| < 30 rad/s), so 1 ms resolves the motion and
+  // no finer run is needed (the finer runs take minutes under the sanitizers).
+  const double duration = long_form() ? 10.0 : 0.25;
   const double h = 1e-3;
+  std::ostringstream win;
+  win << "0-" << window(duration) << " s";
   const std::string path = st::urdf_path("hoap3.urdf");
   uio::LoadOptions torso = stance_options();
   torso.root.clear();
@@ -536,9 +543,9 @@ TEST(Stress, PassiveSimulationEnergyDrift) {
                                step * fine.v_max <= 0.05;
         // A coarse run that blew up gives no bound (recorded, not asserted).
         const bool assert_it = (in_regime || force) && std::isfinite(coarse.rel);
-        record("energy", name, n, 0.0, "energy drift 0-1 s, " + label, "double", fine.rel_1s,
+        record("energy", name, n, 0.0, "energy drift " + win.str() + ", " + label, "double", fine.rel_1s,
                shrink * coarse.rel_1s + floor, assert_it);
-        record("energy", name, n, 0.0, "energy steps sum 0-1 s, " + label, "double", fine.steps_1s,
+        record("energy", name, n, 0.0, "energy steps sum " + win.str() + ", " + label, "double", fine.steps_1s,
                shrink * coarse.steps_1s + floor, assert_it);
         if (duration > 1.0) {
           record("energy", name, n, 0.0, "energy drift 0-10 s, " + label, "double", fine.rel,
@@ -551,7 +558,7 @@ TEST(Stress, PassiveSimulationEnergyDrift) {
         return fine;
       };
       const Drift at_1ms = check(h, "h = 1 ms", false);
-      if (!(h * at_1ms.v_max <= 0.05)) {
+      if (!(2 * h * at_1ms.v_max <= 0.05)) {
         const double v = std::isfinite(at_1ms.v_max) && at_1ms.v_max < 2 * v_ref ? std::max(at_1ms.v_max, v_ref) : v_ref;
         // A step that divides the duration, with some slack for the speeds of the finer runs.
         const double ha = duration / std::ceil(duration * v / 0.04);
