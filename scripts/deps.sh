@@ -9,6 +9,7 @@ packages=(
   cmake
   ninja-build
   clang
+  libclang-rt-14-dev
   python3
   python3-venv
   libeigen3-dev

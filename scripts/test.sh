@@ -2,7 +2,8 @@
 # Builds and runs every test.
 #   1. Release build (preset "release", build/): all tests, including the packaging test.
 #   2. Debug build with ASan + UBSan (preset "asan", build-asan/): all tests except the packaging test.
-# Usage: scripts/test.sh [--quick]    --quick skips step 2.
+#   3. The URDF loader's fuzz target (scripts/fuzz.sh, clang + libFuzzer + ASan/UBSan, build-fuzz/) for 60 s.
+# Usage: scripts/test.sh [--quick]    --quick skips steps 2 and 3.
 # JOBS (default 2) sets the parallelism of builds and tests.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
@@ -11,7 +12,7 @@ quick=0
 for arg in "$@"; do
   case "$arg" in
     --quick) quick=1 ;;
-    -h|--help) echo "usage: scripts/test.sh [--quick]   (--quick skips the sanitizer build)"; exit 0 ;;
+    -h|--help) echo "usage: scripts/test.sh [--quick]   (--quick skips the sanitizer build and the fuzzer)"; exit 0 ;;
     *) echo "test.sh: unknown argument '$arg' (try --help)" >&2; exit 2 ;;
   esac
 done
@@ -25,7 +26,7 @@ cmake --build --preset release --parallel "$jobs"
 ctest --test-dir build --output-on-failure --no-tests=error -j "$jobs"
 
 if [[ $quick -eq 1 ]]; then
-  echo "test.sh: --quick given, sanitizer build skipped"
+  echo "test.sh: --quick given, sanitizer build and fuzzer skipped"
   exit 0
 fi
 
@@ -34,5 +35,8 @@ cmake --preset asan
 cmake --build --preset asan --parallel "$jobs"
 UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1} \
   ctest --test-dir build-asan --output-on-failure --no-tests=error -j "$jobs" -LE package
+
+echo "==== fuzzing the URDF loader (60 s) ===="
+bash scripts/fuzz.sh 60
 
 echo "test.sh: all tests passed"

@@ -139,6 +139,11 @@ double run_every_algorithm(const Model<S, T>& model, Data<S, T>& d, const V& q, 
   sum += kinetic_energy(model, d, q, qd);
   sum += potential_energy(model, d, q);
   sum += center_of_mass(model, d, q).sum();
+  // Input checks (checks.hpp) and the checked entry points.
+  sum += check_finite(model, q, qd, qdd).ok() ? 1 : 0;
+  sum += rnea_checked(model, d, q, qd, qdd).ok() ? 1 : 0;
+  sum += aba_checked(model, d, q, qd, tau).ok() ? 1 : 0;
+  sum += forward_dynamics_crba_checked(model, d, q, qd, tau).ok() ? 1 : 0;
   return sum;
 }
 

@@ -1,10 +1,11 @@
 #pragma once
 /// \file spatial.hpp
 /// Umbrella header of the spatial library: spatial vector algebra, joints, kinematic trees and the dynamics
-/// algorithms (RNEA, CRBA, LTDL, ABA). See README.md for the conventions.
+/// algorithms (RNEA, CRBA, LTDL, ABA), input checks. See README.md for the conventions.
 
 #include "spatial/algebra.hpp"
 #include "spatial/joints.hpp"
 #include "spatial/model.hpp"
 #include "spatial/sincos.hpp"
 #include "spatial/algorithms.hpp"
+#include "spatial/checks.hpp"

@@ -628,7 +628,46 @@ inline void cut_cycles(urdf::ModelInterface& model) {
     }
 }
 
+/// Rejects, before urdfdom sees the file, joint graphs in which urdfdom's links would point at each other in a cycle
+/// of shared pointers: a link that is the child of two joints, or a loop of parent joints. When urdfdom then fails on
+/// something else (a second root, say) it returns null and the cycle leaks inside it, out of our reach (found by
+/// the fuzzer, tests/fuzz/). Files that tinyxml cannot read are left to urdfdom's error message.
+inline void check_joint_graph(const std::string& xml, const std::string& source) {
+  TiXmlDocument doc;
+  doc.Parse(xml.c_str());
+  if (doc.Error()) return;
+  const TiXmlElement* robot = doc.FirstChildElement("robot");
+  if (robot == nullptr) return;
+  std::map<std::string, std::pair<std::string, std::string>> parent_of;  // child link -> (parent link, joint)
+  for (const TiXmlElement* j = robot->FirstChildElement("joint"); j != nullptr; j = j->NextSiblingElement("joint")) {
+    const TiXmlElement* p = j->FirstChildElement("parent");
+    const TiXmlElement* c = j->FirstChildElement("child");
+    const char* name = j->Attribute("name");
+    const char* parent = p ? p->Attribute("link") : nullptr;
+    const char* child = c ? c->Attribute("link") : nullptr;
+    if (!name || !parent || !child) continue;  // urdfdom reports these
+    const auto [it, inserted] = parent_of.emplace(child, std::make_pair(std::string(parent), std::string(name)));
+    if (!inserted)
+      fail(source, "link " + quote(child) + " is the child of two joints, " + quote(it->second.second) + " and " +
+                       quote(name) + " (a kinematic loop or a duplicated joint)");
+  }
+  for (const TiXmlElement* l = robot->FirstChildElement("link"); l != nullptr; l = l->NextSiblingElement("link")) {
+    const char* name = l->Attribute("name");
+    if (!name) continue;
+    std::string at = name;
+    for (std::size_t steps = 0; steps <= parent_of.size(); ++steps) {
+      const auto it = parent_of.find(at);
+      if (it == parent_of.end()) break;
+      at = it->second.first;
+      if (at == name)
+        fail(source, "link " + quote(name) + " is not connected to the root link: its parent joints lead back to it "
+                                             "(the joints form a kinematic loop)");
+    }
+  }
+}
+
 inline urdf::ModelInterfaceSharedPtr parse(const std::string& xml, const std::string& source) {
+  check_joint_graph(xml, source);
   urdf::ModelInterfaceSharedPtr m;
   std::vector<std::string> errors;
   std::string thrown;
