@@ -8,3 +8,5 @@
 #include "spatial/model.hpp"
 #include "spatial/sincos.hpp"
 #include "spatial/algorithms.hpp"
+#include "spatial/options.hpp"
+#include "spatial/reduce.hpp"
