@@ -47,7 +47,7 @@ volatile double g_sink;
       const auto& u = f.u[k];                                        \
       (void)qd;                                                      \
       (void)u;                                                       \
-      s += (EXPR)[0];                                                \
+      s += (EXPR)(0, 0);                                               \
     }                                                                \
     g_sink = s;                                                      \
   }
