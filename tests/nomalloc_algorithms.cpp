@@ -132,6 +132,23 @@ double run_every_algorithm(const Model<S, T>& model, Data<S, T>& d, const V& q, 
   sum += out.sum();
   out = aba(model, d, q, qd, tau, fext, ForceFrame::Base);
   sum += out.sum();
+  // The compile-time options (options.hpp).
+  out = rnea<Dyn::Static>(model, d, q, qd, qdd);
+  sum += out.sum();
+  out = rnea<Dyn::QuasiStatic | Dyn::BaseForces>(model, d, q, qd, qdd, fext, ForceFrame::Base);
+  sum += out.sum() + d.f[0].n.sum();
+  out = rnea<Dyn::NoGravity | Dyn::BaseForces>(model, d, q, qd, qdd, fext, ForceFrame::Body);
+  sum += out.sum() + d.f[0].f.sum();
+  out = aba<Dyn::Static>(model, d, q, qd, tau);
+  sum += out.sum();
+  out = aba<Dyn::Velocity>(model, d, q, qd, tau, fext, ForceFrame::Base);
+  sum += out.sum();
+  out = aba<Dyn::None>(model, d, q, qd, tau, fext, ForceFrame::Body);
+  sum += out.sum();
+  out = forward_dynamics_crba<Dyn::Static>(model, d, q, qd, tau);
+  sum += out.sum();
+  out = forward_dynamics_crba<Dyn::None>(model, d, q, qd, tau);
+  sum += out.sum();
   forward_kinematics(model, d, q);
   sum += body_pose(d, model.size() - 1).translation().sum();
   for (int k = 0; k < static_cast<int>(model.frames().size()); ++k) sum += frame_pose(model, d, k).translation().sum();
@@ -213,6 +230,35 @@ TEST(NoMalloc, CompileTimeModel) {
 }
 
 // The compile-time model with dynamic-size inputs (e.g. vectors from a simulator): still no allocation.
+// A model reduced by lock_joints (reduce.hpp; the reduction itself runs before the guard) and the q mapping.
+TEST(NoMalloc, ReducedModel) {
+  const Model<double> full = spatial::testing::random_model(12, spatial::testing::Shape::Branched, 9);
+  const ReducedModel<double> red = lock_joints(full, {{2, 0.3}, {"joint5", -0.2}, {11, 0.1}});
+  const Model<double>& model = red.model;
+  Data<double> d(model);
+  const int n = model.size();
+  std::mt19937 rng(3);
+  const Vec q_full = spatial::testing::random_vector(full.size(), rng);
+  Vec q(n);
+  const Vec qd = spatial::testing::random_vector(n, rng), qdd = spatial::testing::random_vector(n, rng),
+            tau = spatial::testing::random_vector(n, rng);
+  std::vector<Force<double>> fext(static_cast<std::size_t>(n), Force<double>(V3(1, 0, 3), V3(0, 0.5, 2)));
+  Vec out(n), x(n), back = Vec::Zero(full.size());
+  double sum = 0;
+  long news = 0;
+  {
+    NoAllocationRegion guard;
+    red.gather(q_full, q);
+    for (int rep = 0; rep < 2; ++rep) sum += run_every_algorithm(model, d, q, qd, qdd, tau, fext, out, x);
+    red.scatter(out, back);
+    sum += back.sum();
+    news = guard.new_calls();
+  }
+  g_sink = sum;
+  EXPECT_EQ(news, 0) << "operator new was called inside the algorithms";
+  EXPECT_TRUE(std::isfinite(sum));
+}
+
 TEST(NoMalloc, CompileTimeModelWithDynamicInputs) {
   auto bodies = spatial::testing::random_bodies(8, spatial::testing::Shape::Chain, 7);
   for (int i = 0; i < 8; ++i) {

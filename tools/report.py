@@ -534,6 +534,26 @@ def growth_series(growth, compiler):
     return {k: sorted(v) for k, v in sorted(series.items(), key=lambda kv: (algorithm_sort_key(kv[0][0]), kv[0][1:]))}
 
 
+def savings_rows(compilers):
+    """Scene options (bench/bench_scenes.cpp, "scene/<ALG>.<Variant>/<model>/<scalar>/<tree>") against
+    "<ALG>.Full" of the same model, scalar and tree: one row per option and compiler."""
+    rows = []
+    for c, entry in compilers.items():
+        times = {k: v for k, v in entry["times"].items() if k[0] == "scene"}
+        for (impl, algorithm, model, scalar, tree), ns in sorted(times.items()):
+            if "." not in algorithm:
+                continue
+            base, variant = algorithm.split(".", 1)
+            if variant == "Full":
+                continue
+            full = times.get((impl, f"{base}.Full", model, scalar, tree))
+            if not full:
+                continue
+            rows.append([c, base, variant, model, tree, fmt_ns(ns), fmt_ns(full), fmt_ratio(ns / full),
+                         f"{100.0 * (1.0 - ns / full):.0f} %"])
+    return rows
+
+
 def write_report(out_dir, compilers, records, time_kind, charts_enabled=True):
     os.makedirs(out_dir, exist_ok=True)
     notes = []
@@ -749,6 +769,18 @@ def write_report(out_dir, compilers, records, time_kind, charts_enabled=True):
     w("**Pending (HOOK hoap3)**: full 21-DoF model vs reduced models (locked limbs) vs double pendulum for the "
       "resultant force of the stepping scene: needs the HOAP-3 models (src/models/).")
     w("")
+
+    savings = savings_rows(compilers)
+    if savings:
+        w("## Savings")
+        w("")
+        w("Paying only for what a scene uses (`bench_scenes`, include/spatial/options.hpp and reduce.hpp): each option "
+          "against the full computation on the same model, inputs and tree, median time per call. ArmsOnly: the "
+          "8 arm joints of the stance model moving, the rest held (`keep_branches`), against the whole body.")
+        w("")
+        w(md_table(["compiler", "algorithm", "option", "model", "tree", "time", "full computation", "ratio",
+                    "saving"], savings))
+        w("")
 
     growth = [r for r in records if r["kind"] == "growth"]
     if growth:

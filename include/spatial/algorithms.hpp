@@ -6,6 +6,10 @@
 ///
 /// Frames: every per-body quantity is expressed in that body's coordinates (RBDA §4.1 "link coordinates"), with
 /// the Plücker conventions of algebra.hpp; the base frame is body −1's.
+///
+/// Scenes that need only some terms (no velocity, no gravity, gravity alone, forces in base coordinates) call
+/// `rnea<Dyn::…>`, `aba<Dyn::…>` and `forward_dynamics_crba<Dyn::…>` from options.hpp, which documents the
+/// equations of each option; reduce.hpp locks joints and keeps only the branches a scene moves.
 
 #include "spatial/algebra.hpp"
 #include "spatial/joints.hpp"

@@ -82,6 +82,10 @@ struct FixedFrame {
 template <class S>
 class ModelBuilder;
 
+namespace detail {
+struct ModelAccess;  // reduce.hpp: edits the frames and base mass of a model it builds
+}  // namespace detail
+
 /// The immutable description of a tree: topology, joint types and axes, tree transforms, body inertias and
 /// gravity. Build it with `ModelBuilder` (run time) or `Model<S, Tree>::from(…)` (compile time, checked).
 template <class S, class TreeT = DynamicTree>
@@ -280,6 +284,7 @@ class Model {
   template <class, class>
   friend class Model;
   friend class ModelBuilder<S>;
+  friend struct detail::ModelAccess;
 
   void resize_(int n) {
     if constexpr (!is_static) {

@@ -9,3 +9,5 @@
 #include "spatial/sincos.hpp"
 #include "spatial/algorithms.hpp"
 #include "spatial/checks.hpp"
+#include "spatial/options.hpp"
+#include "spatial/reduce.hpp"
