@@ -26,9 +26,10 @@
 // relative backward error of H and of τ − C (the latter is c n ε (‖τ‖ + ‖C‖) / ‖τ − C‖, the cancellation in the
 // right-hand side). The residual of a backward-stable solve does not depend on κ(H): the computed q̈ solves
 // (H + δH) q̈ = τ − C + δb exactly with ‖δH‖ ≤ c n ε ‖H‖, so ‖H q̈ − (τ − C)‖ ≤ c n ε (‖H‖ ‖q̈‖ + ‖C‖ + ‖τ‖); it is
-// asserted even where κ(H) is beyond 1/ε (measured: it holds for ABA as well as for LTDL). The pivots of H = Lᵀ D L are at least λ_min(H) in exact arithmetic; a backward error of c n ε
-// ‖H‖ lowers them by at most c n ε κ(H) λ_min. Where c n ε κ ≥ 1 the bound says nothing (no significant digit is
-// guaranteed) and is not asserted; the value is still recorded.
+// asserted even where κ(H) is beyond 1/ε (measured: it holds for ABA as well as for LTDL). The pivots of H = Lᵀ D L
+// are at least λ_min(H) in exact arithmetic; a backward error of c n ε ‖H‖ lowers them by at most c n ε κ(H) λ_min.
+// Where c n ε κ ≥ 1 the bound says nothing (no significant digit is guaranteed) and is not asserted; the value is
+// still recorded. Here ε is the unit round-off u (half the machine epsilon) and ‖H‖ = λ_max(H).
 
 #include "support/integrators.hpp"
 #include "support/random_model.hpp"
