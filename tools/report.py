@@ -439,7 +439,7 @@ def write_charts(out_dir, records, compilers, notes):
         ax.set_yscale("log")
         ax.set_xlabel("median time per call of the resultant force (RNEA + ground wrench) [ns]")
         ax.set_ylabel("max relative error of the resultant force")
-        ax.set_title(f"stepping scene: full vs reduced vs double pendulum ({c}; vs full model in long double)")
+        ax.set_title(f"step: resultant force, full vs reduced vs pendulum ({c})", fontsize=9)
     for col, c in enumerate(compilers):
         pts = variant_points(records, c)
         ax = axes[0][col]
@@ -630,6 +630,11 @@ def scenes_section(w, scenes_dir, out_dir):
           "centre of mass accelerating downwards at about 0.33 m/s², or its model weighed about 8.5 kg; it publishes "
           "neither its via points nor its mass table, so ours differ.")
         w("")
+        for n in ("pendulum", "step"):
+            if os.path.exists(os.path.join(scenes_dir, n + "_resultant.png")):
+                w(f"![resultant force and ZMP during the step ({n})]({rel}/{n}_resultant.png)")
+                w("")
+                break
 
 
 def write_report(out_dir, compilers, records, time_kind, charts_enabled=True, scenes_dir=None):
