@@ -40,8 +40,14 @@ TEST(Scenes, CubicsMeetTheirViaPointsAndStartAndEndAtRest) {
         tr.eval(tr.time(k) - dt, ql, qdl, qddl);
         EXPECT_LE((ql - tr.position(k)).cwiseAbs().maxCoeff(),
                   qdl.cwiseAbs().maxCoeff() * dt + qddl.cwiseAbs().maxCoeff() * dt * dt + 64 * kEps * scale);
+        // q̇ just before t_k: q̇_k − q̈ dt + q⃛ dt²/2, where a cubic's q⃛ = (12 (p0 − p1) + 6 T (v0 + v1)) / T³ is bounded
+        // by 36 (scale + T |v|) / T³ with the previous segment's T; plus rounding of order eps scale / T.
+        const double Tp = tr.time(k) - tr.time(k - 1);
+        const double v = std::max(tr.velocity(k).cwiseAbs().maxCoeff(), tr.velocity(k - 1).cwiseAbs().maxCoeff());
+        const double sc = std::max(scale, tr.position(k - 1).cwiseAbs().maxCoeff() + 1);
         EXPECT_LE((qdl - tr.velocity(k)).cwiseAbs().maxCoeff(),
-                  qddl.cwiseAbs().maxCoeff() * dt * 2 + 1e-6 * (scale / T));
+                  qddl.cwiseAbs().maxCoeff() * dt + 18 * (sc + Tp * v) / (Tp * Tp * Tp) * dt * dt +
+                      64 * kEps * (sc / Tp + v));
       }
     }
     EXPECT_EQ(tr.velocity(0).cwiseAbs().maxCoeff(), 0.0);
