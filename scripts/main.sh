@@ -6,7 +6,9 @@
 #      clang++ (preset "clang-release", build-clang/). Tests are not built here (scripts/test.sh does that).
 #   3. Runs every benchmark binary of each build (Google Benchmark, repetitions with medians) and the error study,
 #      writing JSON to build/report/raw/<compiler>/.
-#   4. tools/report.py: build/report/report.md, summary.json and the PNG charts; prints the headline table.
+#   4. The reference study's scenes: `spatial-dyn scene all` (first compiler's build) into build/report/scenes/,
+#      plotted by tools/plot_scenes.py (skipped without matplotlib).
+#   5. tools/report.py: build/report/report.md, summary.json and the PNG charts; prints the headline table.
 #
 # Extra arguments are passed to every benchmark binary, e.g.  scripts/main.sh --benchmark_filter=stance21
 # Environment: JOBS (build parallelism, default 2), REPETITIONS (default 5), MIN_TIME (seconds per repetition,
@@ -74,11 +76,21 @@ for compiler in $compilers; do
   "$build_dir/bin/error_study" "$out/error_study.json"
 done
 
-stage "report"
 python=python3
 if [[ -x build/venv/bin/python ]] && build/venv/bin/python -c "import matplotlib" >/dev/null 2>&1; then
   python=build/venv/bin/python
 fi
+
+first_compiler=${compilers%% *}
+scene_build=build
+[[ "$first_compiler" == clang ]] && scene_build=build-clang
+stage "scenes (spatial-dyn scene all, $scene_build)"
+cmake --build "$scene_build" --target spatial-dyn --parallel "$jobs"
+rm -rf "$report_dir/scenes"
+"$scene_build/bin/spatial-dyn" scene all --out "$report_dir/scenes"
+"$python" tools/plot_scenes.py "$report_dir/scenes"
+
+stage "report"
 "$python" tools/report.py --input "$raw_dir" --output "$report_dir"
 
 echo

@@ -14,7 +14,8 @@ per iteration (--time real: wall time). CPU time is the default because the mach
 process accumulates wall time but not CPU time.
 
 Charts need matplotlib (scripts/peers.sh installs it into build/venv); without it the tables are still written.
-Usage: tools/report.py [--input build/report/raw] [--output build/report] [--time cpu|real]
+The "Scenes" section reads <output>/scenes/*.json (spatial-dyn scene all; plots by tools/plot_scenes.py).
+Usage: tools/report.py [--input build/report/raw] [--output build/report] [--time cpu|real] [--scenes DIR]
 """
 
 import argparse
@@ -418,7 +419,27 @@ def write_charts(out_dir, records, compilers, notes):
                    os.path.basename(path)))
 
     # 2. run time against error, with the Pareto front
-    fig, axes = plt.subplots(2, max(1, len(compilers)), figsize=(6.5 * max(1, len(compilers)), 10), squeeze=False)
+    fig, axes = plt.subplots(3, max(1, len(compilers)), figsize=(6.5 * max(1, len(compilers)), 15), squeeze=False)
+    for col, c in enumerate(compilers):
+        ax = axes[2][col]
+        step = step_points(compilers[c])
+        if step:
+            front = pareto_front([(p["ns"], p["max_rel_error"]) for p in step])
+            for i, p in enumerate(step):
+                ax.scatter([p["ns"]], [p["max_rel_error"]], marker="o" if p["scalar"] == "double" else "^",
+                           color="tab:purple" if p["dof"] == 2 else ("tab:blue" if p["dof"] == 21 else "tab:cyan"),
+                           zorder=3)
+                ax.annotate(f"{p['variant']} ({p['dof']} DoF, {p['scalar']})", (p["ns"], p["max_rel_error"]),
+                            fontsize=6, xytext=(3, 3), textcoords="offset points")
+            fp = sorted((step[i]["ns"], step[i]["max_rel_error"]) for i in front)
+            ax.step([p[0] for p in fp], [p[1] for p in fp], where="post", color="green", label="Pareto front")
+            ax.scatter([p[0] for p in fp], [p[1] for p in fp], s=90, facecolors="none", edgecolors="green", zorder=4)
+            ax.legend(fontsize=7)
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("median time per call of the resultant force (RNEA + ground wrench) [ns]")
+        ax.set_ylabel("max relative error of the resultant force")
+        ax.set_title(f"step: resultant force, full vs reduced vs pendulum ({c})", fontsize=9)
     for col, c in enumerate(compilers):
         pts = variant_points(records, c)
         ax = axes[0][col]
@@ -517,6 +538,14 @@ def grouped_pareto(pts):
     return front
 
 
+def step_points(entry):
+    """The stepping scene's variants (bench/error_study_scenes.hpp), with a time and a nonzero error."""
+    if not entry.get("error"):
+        return []
+    return [p for p in (entry["error"].get("step_resultant") or {}).get("points", [])
+            if p.get("ns") and p.get("max_rel_error")]
+
+
 def simulation_points(entry):
     if not entry.get("error"):
         return []
@@ -554,7 +583,81 @@ def savings_rows(compilers):
     return rows
 
 
-def write_report(out_dir, compilers, records, time_kind, charts_enabled=True):
+def scenes_section(w, scenes_dir, out_dir):
+    """The reference study's scenes (`spatial-dyn scene all`, tools/plot_scenes.py): a table of each scene's maxima
+    and time per sample, the comparison with the study, links to the plots."""
+    names = ["torso_arms", "torso_strokes", "circles", "step", "pendulum"]
+    summaries = {}
+    for n in names:
+        path = os.path.join(scenes_dir, n + ".json")
+        if os.path.exists(path):
+            try:
+                with open(path) as f:
+                    summaries[n] = json.load(f)
+            except (OSError, ValueError) as e:
+                print(f"report.py: skipping {path}: {e}", file=sys.stderr)
+    w("## Scenes: the reference study's experiments")
+    w("")
+    if not summaries:
+        w(f"No scene output in `{scenes_dir}` (run `build/bin/spatial-dyn scene all --out {scenes_dir}`).")
+        w("")
+        return
+    rel = os.path.relpath(scenes_dir, out_dir)
+    w("`spatial-dyn scene all` (README, \"The reference study's scenes\"): cubic joint trajectories sampled at 2 ms, "
+      "torques by RNEA, accelerations recomputed by forward dynamics (CRBA + LTDL, ABA) from those torques. Time per "
+      "sample = median over the samples of RNEA + FD (CRBA) + FD (ABA), compile-time tree, double, wall time "
+      "(steady_clock) on this shared machine. Via points and durations are ours where the study gives none (each "
+      "scene's JSON lists them).")
+    w("")
+    rows = []
+    for n, sm in summaries.items():
+        tr, tm = sm["max_tau_over_rated"], sm["max_tau_over_max"]
+        timing = sm["timing"]
+        plots = [f"[{p}]({rel}/{p})" for p in (n + ".png", n + "_resultant.png")
+                 if os.path.exists(os.path.join(scenes_dir, p))]
+        rows.append([n, sm["model"], sm["samples"], f"{tr['value']:.3f} ({tr['joint'].replace('_joint', '')})",
+                     f"{tm['value']:.3f}", fmt_err(sm["max_qdd_diff_crba"]["value"]),
+                     fmt_err(sm["max_qdd_diff_aba"]["value"]), f"{sm['max_abs_qdd']:.3g}",
+                     fmt_ns(timing["sample_ns"]), f"{timing['sample_ns'] / timing['period_ns']:.1e}",
+                     ", ".join(plots) or "–"])
+    w(md_table(["scene", "model", "samples", "max abs(τ)/rated", "max abs(τ)/max", "max abs(Δq̈) CRBA [rad/s²]",
+                "max abs(Δq̈) ABA [rad/s²]", "max abs(q̈) [rad/s²]", "time per sample", "÷ 2 ms", "plots"], rows))
+    w("")
+    res = (summaries.get("pendulum") or summaries.get("step") or {}).get("resultant")
+    if res:
+        study = (summaries.get("pendulum") or summaries.get("step"))["study"]
+        pend = res.get("pendulum_start_Fz_N")
+        w("**The step against the study** (resultant force of the ground on the robot, sole frame, z up):")
+        w("")
+        rows = [["vertical force at the start, whole body", f"{study['Fz_start_whole_N']} N",
+                 f"{res['start_F_N'][2]:.2f} N"],
+                ["vertical force at the start, double pendulum", f"{study['Fz_start_pendulum_N']} N",
+                 f"{pend:.2f} N" if pend is not None else "–"],
+                ["static weight", f"{study['static_weight_N']} N (8.8 kg × 9.8)",
+                 f"{res['weight_N']:.2f} N ({res['mass_kg']} kg × {res['g']}); static resultant "
+                 f"{res['static_Fz_N']:.4f} N"],
+                ["horizontal force at the start, whole body", f"Fy {study['Fy_start_whole_N']} N",
+                 f"Fx {res['start_F_N'][0]:.2f} N, Fy {res['start_F_N'][1]:.2f} N"],
+                ["ZMP in the sole (0.10 × 0.06 m, assumed)", "–",
+                 f"{'always' if res['zmp_inside'] else 'NOT always'}; min margin {res['min_zmp_margin_m'] * 1e3:.1f} mm"]]
+        w(md_table(["quantity", "study (quoted)", "this run"], rows))
+        w("")
+        w("The static weight differs by the mass table (8.8024 kg with the chest's CPU and wireless LAN, against the "
+          "study's rounded 8.8 kg) and by g (9.81 against 9.8). At the start of single support the resultant departs "
+          "from the weight by the mass times the vertical acceleration of the centre of mass that the trajectory "
+          "imposes (cubics start at rest but not with zero acceleration): below the weight when the centre of mass "
+          "starts downwards. The study's 83.3 N is 2.9 N (3.4 %) under its own static weight: either its step started with the "
+          "centre of mass accelerating downwards at about 0.33 m/s², or its model weighed about 8.5 kg; it publishes "
+          "neither its via points nor its mass table, so ours differ.")
+        w("")
+        for n in ("pendulum", "step"):
+            if os.path.exists(os.path.join(scenes_dir, n + "_resultant.png")):
+                w(f"![resultant force and ZMP during the step ({n})]({rel}/{n}_resultant.png)")
+                w("")
+                break
+
+
+def write_report(out_dir, compilers, records, time_kind, charts_enabled=True, scenes_dir=None):
     os.makedirs(out_dir, exist_ok=True)
     notes = []
     machine = machine_info()
@@ -766,9 +869,33 @@ def write_report(out_dir, compilers, records, time_kind, charts_enabled=True):
             header += [f"cost/sim. s ({c})", f"error [rad] ({c})", f"Pareto ({c})"]
         w(md_table(header, rows))
         w("")
-    w("**Pending (HOOK hoap3)**: full 21-DoF model vs reduced models (locked limbs) vs double pendulum for the "
-      "resultant force of the stepping scene: needs the HOAP-3 models (src/models/).")
-    w("")
+    step_first = next((e["error"]["step_resultant"] for e in compilers.values()
+                       if e.get("error") and e["error"].get("step_resultant")), None)
+    if step_first:
+        w("### The stepping scene: full model vs reduced models vs double pendulum")
+        w("")
+        w(f"The resultant force of the ground on the robot over the {step_first.get('samples')} samples of the step "
+          "(`spatial-dyn scene step`), by each model, against the full 21-DoF model in long double. Reduced models: "
+          "limbs locked at their angles at the start of the step (run-time trees from the URDF loader). "
+          f"Error = {step_first.get('error_definition')}; Fz: max relative error of the vertical component; "
+          "Fh: max absolute error of the horizontal components. Time = "
+          f"{step_first.get('time_definition')}. ★ = on the Pareto front.")
+        w("")
+        rows = []
+        for c in compiler_list:
+            pts = step_points(compilers[c])
+            front = set(pareto_front([(p["ns"], p["max_rel_error"]) for p in pts]))
+            for i, p in enumerate(pts):
+                rows.append([c, p["variant"], p["dof"], p["scalar"], p["tree"], fmt_ns(p["ns"]),
+                             fmt_err(p["max_rel_error"]), fmt_err(p.get("max_rel_error_Fz")),
+                             f"{p.get('max_abs_error_Fh_N', float('nan')):.3g} N", "★" if i in front else ""])
+        w(md_table(["compiler", "model", "DoF", "scalar", "tree", "time", "max rel. error", "Fz rel. error",
+                    "Fh abs. error", "Pareto"], rows))
+        w("")
+    else:
+        w("**Pending**: full 21-DoF model vs reduced models (locked limbs) vs double pendulum for the resultant "
+          "force of the stepping scene: the error study was built without the URDF loader.")
+        w("")
 
     savings = savings_rows(compilers)
     if savings:
@@ -800,6 +927,8 @@ def write_report(out_dir, compilers, records, time_kind, charts_enabled=True):
                              " · ".join(f"{n}: {fmt_ns(t)}" for n, t in pts)])
         w(md_table(["compiler", "algorithm", "shape", "tree", "n", "k", "time per call by n"], rows))
         w("")
+
+    scenes_section(w, scenes_dir or os.path.join(out_dir, "scenes"), out_dir)
 
     if charts:
         w("## Charts")
@@ -833,13 +962,15 @@ def main():
     ap.add_argument("--output", default="build/report")
     ap.add_argument("--time", choices=["cpu", "real"], default="cpu")
     ap.add_argument("--no-charts", action="store_true")
+    ap.add_argument("--scenes", default=None, help="scene outputs (default: <output>/scenes)")
     args = ap.parse_args()
 
     compilers = read_inputs(args.input, args.time)
     if not compilers:
         sys.exit(f"report.py: no benchmark output under {args.input}")
     records = build(compilers, args.time)
-    write_report(args.output, compilers, records, args.time, charts_enabled=not args.no_charts)
+    write_report(args.output, compilers, records, args.time, charts_enabled=not args.no_charts,
+                 scenes_dir=args.scenes)
 
     header, rows = headline_rows(records, list(compilers))
     print(f"\nHeadline: {TARGET_MODEL}, double, compile-time tree ({args.time} time, median)\n")

@@ -4,6 +4,7 @@
 //   spatial-dyn fd   --urdf FILE [MODEL OPTIONS] --in STATES.csv [--out OUT.csv] [--echo] [--method aba|crba]
 //   spatial-dyn crba --urdf FILE [MODEL OPTIONS] --in STATES.csv [--out OUT.csv] [--echo]
 //   spatial-dyn info --urdf FILE [MODEL OPTIONS]
+//   spatial-dyn scene NAME|all [--out DIR]      the reference study's experiments (tools/scenes.hpp)
 //   MODEL OPTIONS: --root LINK  --subtree LINK  --lock JOINT=ANGLE,...  --gravity gx,gy,gz  --gravity-frame root|urdf
 //
 // CSV rules (also in README.md, "Command-line tool"):
@@ -25,6 +26,7 @@
 //    file, line, row and column at fault.
 
 #include "cli_common.hpp"
+#include "scene_run.hpp"
 
 #include <spatial/spatial.hpp>
 #include <spatial/urdf.hpp>
@@ -33,6 +35,7 @@
 #include <array>
 #include <cstdio>
 #include <exception>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <iterator>
@@ -55,12 +58,16 @@ const char* kUsage =
     "       spatial-dyn fd   --urdf FILE [MODEL OPTIONS] --in STATES.csv [--out OUT.csv] [--echo] [--method aba|crba]\n"
     "       spatial-dyn crba --urdf FILE [MODEL OPTIONS] --in STATES.csv [--out OUT.csv] [--echo]\n"
     "       spatial-dyn info --urdf FILE [MODEL OPTIONS]\n"
+    "       spatial-dyn scene NAME|all [--out DIR]\n"
     "MODEL OPTIONS: --root LINK  --subtree LINK  --lock JOINT=ANGLE,...  --gravity gx,gy,gz  --gravity-frame root|urdf\n"
     "\n"
     "  id    inverse dynamics (RNEA): columns q:<joint>, qd:<joint>, qdd:<joint> -> tau:<joint>\n"
     "  fd    forward dynamics (ABA, or CRBA + LTDL with --method crba): q:, qd:, tau: -> qdd:<joint>\n"
     "  crba  joint-space inertia matrix: q: -> H:<jointA>:<jointB>, row-major\n"
     "  info  joints in model order, limits, mass, centre of mass, massless joints, frames\n"
+    "  scene the reference study's experiments on the HOAP-3 reference models (no URDF needed): torso_arms,\n"
+    "        torso_strokes, circles, step, pendulum, or all; writes DIR/NAME.csv and DIR/NAME.json (default DIR:\n"
+    "        build/report/scenes)\n"
     "\n"
     "CSV: a header row, one sample per line, columns in any order named by the URDF joint names; other columns are\n"
     "ignored (--echo copies them to the output); columns of joints the model does not move (fixed, locked, outside\n"
@@ -430,19 +437,63 @@ int run_info(const cli::Options& opts) {
   return 0;
 }
 
+int run_scenes(int argc, char** argv) {
+  if (argc < 3 || std::string(argv[2]).rfind("--", 0) == 0)
+    throw UsageError("scene needs a NAME (torso_arms, torso_strokes, circles, step, pendulum or all)");
+  const std::string name = argv[2];
+  const cli::Options opts(argc, argv, 3, {"--out"}, {});
+  std::vector<std::string> names;
+  if (name == "all") {
+    names = scenes::scene_names();
+  } else {
+    const auto& all = scenes::scene_names();
+    if (std::find(all.begin(), all.end(), name) == all.end())
+      throw UsageError("unknown scene '" + name + "' (torso_arms, torso_strokes, circles, step, pendulum or all)");
+    names = {name};
+  }
+  const std::string dir = opts.get("--out").value_or("build/report/scenes");
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw InputError(dir + ": cannot create the directory (" + ec.message() + ")");
+  for (const std::string& n : names) {
+    const scenes::SceneResult r = scenes::run_scene(n, dir);
+    std::printf("%-14s %5d samples  max |tau|/rated %.3f  max |tau|/max %.3f  max |dqdd| crba %.2e aba %.2e  "
+                "%.2f us per sample (RNEA + FD CRBA + ABA)\n",
+                n.c_str(), r.samples, r.max_tau_over_rated, r.max_tau_over_max, r.max_qdd_diff_crba,
+                r.max_qdd_diff_aba, r.sample_ns * 1e-3);
+    if (n == "step" || n == "pendulum")
+      std::printf("%-14s start F = (%.3f, %.3f, %.3f) N, static Fz %.3f N = m g %.3f N; ZMP %s the sole (min margin "
+                  "%.1f mm)%s\n",
+                  "", r.fx_start, r.fy_start, r.fz_start, r.static_fz, r.weight,
+                  r.zmp_inside ? "inside" : "OUTSIDE", r.min_zmp_margin * 1e3,
+                  n == "pendulum" ? (" ; pendulum start Fz " + std::to_string(r.pendulum_fz_start) + " N").c_str()
+                                  : "");
+  }
+  for (const std::string& n : names) std::printf("wrote %s/%s.csv and %s.json\n", dir.c_str(), n.c_str(), n.c_str());
+  return 0;
+}
+
 int run(int argc, char** argv) {
-  if (argc < 2) throw UsageError("no subcommand (id, fd, crba or info; try --help)");
+  if (argc < 2) throw UsageError("no subcommand (id, fd, crba, info or scene; try --help)");
   const std::string sub = argv[1];
   if (sub == "--help" || sub == "-h" || sub == "help") {
     std::cout << kUsage;
     return 0;
+  }
+  if (sub == "scene") {
+    for (int i = 2; i < argc; ++i)
+      if (std::string(argv[i]) == "--help" || std::string(argv[i]) == "-h") {
+        std::cout << kUsage;
+        return 0;
+      }
+    return run_scenes(argc, argv);
   }
   Command cmd;
   if (sub == "id") cmd = Command::Id;
   else if (sub == "fd") cmd = Command::Fd;
   else if (sub == "crba") cmd = Command::Crba;
   else if (sub == "info") cmd = Command::Info;
-  else throw UsageError("unknown subcommand '" + sub + "' (id, fd, crba or info; try --help)");
+  else throw UsageError("unknown subcommand '" + sub + "' (id, fd, crba, info or scene; try --help)");
   for (int i = 2; i < argc; ++i)
     if (std::string(argv[i]) == "--help" || std::string(argv[i]) == "-h") {
       std::cout << kUsage;
