@@ -423,6 +423,31 @@ TYPED_TEST(AlgebraTyped, ArticulatedInertia) {
     ArticulatedInertia<S> sub = IA;
     sub.subtract_outer(U, S(1) / d);
     EXPECT_LE(maxdiff(sub.matrix(), Matrix6<S>(M - U.vector() * U.vector().transpose() / d)), this->tol(32));
+    // The revolute-joint specialisation: U = M e_K (angular K), d = U_K; the update then maps e_K to exactly zero
+    // and the transform that skips row/column K agrees with the dense reference.
+    const auto revolute_update = [&](auto axis) {
+      constexpr int K = decltype(axis)::value;
+      Motion<S> eK = Motion<S>::Zero();
+      eK.w[K] = S(1);
+      const Force<S> UK = IA * eK;
+      const S dK = UK.n[K];
+      const Matrix6<S> ref = M - UK.vector() * UK.vector().transpose() / dK;
+      ArticulatedInertia<S> red = IA;
+      red.template subtract_outer<K>(UK, S(1) / dK);
+      EXPECT_LE(maxdiff(red.matrix(), ref), this->tol(32)) << "K = " << K << ", trial " << t;
+      EXPECT_EQ((red * eK).vector(), Vector6<S>::Zero()) << "K = " << K << ", trial " << t;
+      Motion<S> c = R.motion();  // a velocity product v × e_K q̇: zero K components
+      c.w[K] = S(0);
+      c.v[K] = S(0);
+      EXPECT_LE(maxdiff(red.template mul_null<K>(c).vector(), Vector6<S>(ref * c.vector())), this->tol(32))
+          << "K = " << K << ", trial " << t;
+      EXPECT_LE(maxdiff(red.template transformed_inverse<K>(X).matrix(), Matrix6<S>(Xm.transpose() * ref * Xm)),
+                this->tol(256))
+          << "K = " << K << ", trial " << t;
+    };
+    revolute_update(std::integral_constant<int, 0>{});
+    revolute_update(std::integral_constant<int, 1>{});
+    revolute_update(std::integral_constant<int, 2>{});
     ArticulatedInertia<S> acc = IA;
     acc += IA;
     EXPECT_LE(maxdiff(acc.matrix(), Matrix6<S>(2 * M)), this->tol(4));

@@ -433,18 +433,21 @@ struct Inertia {
   /// This inertia, given in B coordinates, expressed in A coordinates for X = ᴮX_A: Xᵀ I X (RBDA eq. 2.66),
   /// the step by which CRBA passes a child's inertia to its parent. Rotate into A's axes (h′ = Eᵀh,
   /// Ī′ = Eᵀ Ī E), then move the origin by −r: h = h′ + m r and, from Ī = Σ −mₖ p̃ₖ p̃ₖ with pₖ → pₖ + r,
-  /// Ī = Ī′ − (r̃ h̃′ + h̃′ r̃) − m r̃ r̃ = Ī′ − (r h′ᵀ + h′ rᵀ) + 2 (h′·r) 1 − m (r rᵀ − (r·r) 1).
+  /// Ī = Ī′ − (r̃ h̃′ + h̃′ r̃) − m r̃ r̃ = Ī′ − (r h′ᵀ + h′ rᵀ) + 2 (h′·r) 1 − m (r rᵀ − (r·r) 1)
+  ///   = Ī′ − (r gᵀ + g rᵀ) + 2 (g·r) 1  with g = h′ + (m/2) r  (only the upper triangle is computed).
   SPATIAL_INLINE Inertia transformed_inverse(const Transform<S>& X) const {
     using namespace detail;
     const Vector3<S> hp = mul_t(X.E, h);
-    Matrix3<S> J = mul_tn(X.E, mul(I, X.E));
     const Vector3<S>& r = X.r;
-    J -= sym_outer(r, hp);
-    J -= (m / S(2)) * sym_outer(r, r);
-    const S d = S(2) * dot3(hp, r) + m * dot3(r, r);
-    J(0, 0) += d;
-    J(1, 1) += d;
-    J(2, 2) += d;
+    const Vector3<S> g = add3(hp, scale3(m / S(2), r));
+    const S d = S(2) * dot3(g, r);
+    Matrix3<S> J = sym_congruence(X.E, I);
+    SPATIAL_UNROLL for (int i = 0; i < 3; ++i)
+      SPATIAL_UNROLL for (int j = i; j < 3; ++j) {
+        J(i, j) -= r[i] * g[j] + g[i] * r[j];
+        if (i == j) J(i, j) += d;
+        J(j, i) = J(i, j);
+      }
     return Inertia(m, add3(hp, scale3(m, r)), J);
   }
 
@@ -479,6 +482,24 @@ struct ArticulatedInertia {
     using namespace detail;
     return Force<S>(add3(mul(A, v.w), mul(B, v.v)), add3(mul_t(B, v.w), mul(C, v.v)));
   }
+  /// M c for K ≥ 0 when row and column K of A and row K of B are zero (see subtract_outer) and c has zero
+  /// components K in both halves (c = v × S q̇ for a revolute joint about axis K): the zero terms are skipped.
+  /// K = −1: the full product.
+  template <int K>
+  SPATIAL_INLINE Force<S> mul_null(const Motion<S>& c) const {
+    if constexpr (K < 0) {
+      return *this * c;
+    } else {
+      constexpr int k1 = (K + 1) % 3, k2 = (K + 2) % 3;
+      Vector3<S> n, f;
+      n[K] = S(0);
+      n[k1] = A(k1, k1) * c.w[k1] + A(k1, k2) * c.w[k2] + B(k1, k1) * c.v[k1] + B(k1, k2) * c.v[k2];
+      n[k2] = A(k2, k1) * c.w[k1] + A(k2, k2) * c.w[k2] + B(k2, k1) * c.v[k1] + B(k2, k2) * c.v[k2];
+      SPATIAL_UNROLL for (int i = 0; i < 3; ++i)
+        f[i] = B(k1, i) * c.w[k1] + B(k2, i) * c.w[k2] + C(i, k1) * c.v[k1] + C(i, k2) * c.v[k2];
+      return Force<S>(n, f);
+    }
+  }
   SPATIAL_INLINE ArticulatedInertia& operator+=(const ArticulatedInertia& o) {
     SPATIAL_UNROLL for (int i = 0; i < 3; ++i)
       SPATIAL_UNROLL for (int j = 0; j < 3; ++j) {
@@ -488,31 +509,95 @@ struct ArticulatedInertia {
       }
     return *this;
   }
-  /// Subtract the rank-one term U Uᵀ / d (U a force vector).
+  /// Subtract the rank-one term U Uᵀ / d (U a force vector). With K ≥ 0, U = Iᴬ e_K (e_K: angular coordinate K,
+  /// a revolute joint about axis K) and d = U_K: the result then maps e_K to zero, so row and column K of A and
+  /// row K of B are set to exactly zero instead of being computed as round-off. Only upper triangles of the
+  /// symmetric blocks are computed.
+  template <int K = -1>
   SPATIAL_INLINE void subtract_outer(const Force<S>& U, S inv_d) {
     SPATIAL_UNROLL for (int i = 0; i < 3; ++i) {
       const S ni = inv_d * U.n[i], fi = inv_d * U.f[i];
       SPATIAL_UNROLL for (int j = 0; j < 3; ++j) {
-        A(i, j) -= ni * U.n[j];
-        B(i, j) -= ni * U.f[j];
-        C(i, j) -= fi * U.f[j];
+        if (i == K) {
+          A(i, j) = S(0);
+          A(j, i) = S(0);
+          B(i, j) = S(0);
+        } else {
+          if (j >= i && j != K) {
+            A(i, j) -= ni * U.n[j];
+            A(j, i) = A(i, j);
+          }
+          B(i, j) -= ni * U.f[j];
+        }
+        if (j >= i) {
+          C(i, j) -= fi * U.f[j];
+          C(j, i) = C(i, j);
+        }
       }
     }
   }
   /// Xᵀ M X for X = ᴮX_A, M given in B coordinates: the same inertia in A coordinates.
   /// Rotate, M′ = diag(E, E)ᵀ M diag(E, E) = [a b; bᵀ c], then shift by xlt(r):
-  /// [1 r̃; 0 1] M′ [1 0; −r̃ 1] = [a − b r̃ − (b r̃)ᵀ − r̃ c r̃,  b − (c r̃)ᵀ;  …,  c], using r̃ᵀ = −r̃ and c = cᵀ.
+  /// [1 r̃; 0 1] M′ [1 0; −r̃ 1] = [a − b r̃ − (b r̃)ᵀ − r̃ c r̃,  b + r̃ c;  …,  c], using r̃ᵀ = −r̃ and c = cᵀ;
+  /// with B′ = b + r̃ c the top-left block is a − B′ r̃ + r̃ bᵀ (symmetric: upper triangle computed).
+  /// With K ≥ 0, row and column K of A and row K of B are known to be zero (see subtract_outer) and skipped.
+  template <int K = -1>
   SPATIAL_INLINE ArticulatedInertia transformed_inverse(const Transform<S>& X) const {
-    using namespace detail;
-    const Matrix3<S> a = sym_congruence(X.E, A), b = mul_tn(X.E, mul(B, X.E)), c = sym_congruence(X.E, C);
-    const Matrix3<S> br = mul_skew(b, X.r), cr = mul_skew(c, X.r), rcr = skew_mul(X.r, cr);
-    ArticulatedInertia out;
+    const Matrix3<S>& E = X.E;
+    const Vector3<S>& r = X.r;
+    Matrix3<S> AE, BE, CE, a, b, c;
+    // AE = A E, BE = B E (rows K skipped), CE = C E.
     SPATIAL_UNROLL for (int i = 0; i < 3; ++i)
       SPATIAL_UNROLL for (int j = 0; j < 3; ++j) {
-        out.A(i, j) = a(i, j) - br(i, j) - br(j, i) - rcr(i, j);
-        out.B(i, j) = b(i, j) - cr(j, i);
+        if (i != K) {
+          S sa = S(0), sb = S(0);
+          bool first = true;
+          SPATIAL_UNROLL for (int k = 0; k < 3; ++k) {
+            if (k == K) continue;
+            sa = first ? A(i, k) * E(k, j) : sa + A(i, k) * E(k, j);
+            first = false;
+          }
+          sb = B(i, 0) * E(0, j) + B(i, 1) * E(1, j) + B(i, 2) * E(2, j);
+          AE(i, j) = sa;
+          BE(i, j) = sb;
+        }
+        CE(i, j) = C(i, 0) * E(0, j) + C(i, 1) * E(1, j) + C(i, 2) * E(2, j);
       }
+    // a = Eᵀ A E, b = Eᵀ B E (sums over k ≠ K), c = Eᵀ C E.
+    SPATIAL_UNROLL for (int i = 0; i < 3; ++i)
+      SPATIAL_UNROLL for (int j = 0; j < 3; ++j) {
+        S sa = S(0), sb = S(0);
+        bool first = true;
+        SPATIAL_UNROLL for (int k = 0; k < 3; ++k) {
+          if (k == K) continue;
+          if (j >= i) sa = first ? E(k, i) * AE(k, j) : sa + E(k, i) * AE(k, j);
+          sb = first ? E(k, i) * BE(k, j) : sb + E(k, i) * BE(k, j);
+          first = false;
+        }
+        b(i, j) = sb;
+        if (j >= i) {
+          a(i, j) = sa;
+          c(i, j) = E(0, i) * CE(0, j) + E(1, i) * CE(1, j) + E(2, i) * CE(2, j);
+          c(j, i) = c(i, j);
+        }
+      }
+    ArticulatedInertia out;
     out.C = c;
+    // B′ = b + r̃ c: column j is b_j + r × c_j.
+    SPATIAL_UNROLL for (int j = 0; j < 3; ++j) {
+      out.B(0, j) = b(0, j) + (r[1] * c(2, j) - r[2] * c(1, j));
+      out.B(1, j) = b(1, j) + (r[2] * c(0, j) - r[0] * c(2, j));
+      out.B(2, j) = b(2, j) + (r[0] * c(1, j) - r[1] * c(0, j));
+    }
+    // A′ = a − B′ r̃ + r̃ bᵀ: (B′ r̃)(i, j) = (row i of B′ × r)_j, (r̃ bᵀ)(i, j) = (r × row j of b)_i.
+    SPATIAL_UNROLL for (int i = 0; i < 3; ++i)
+      SPATIAL_UNROLL for (int j = i; j < 3; ++j) {
+        const int j1 = (j + 1) % 3, j2 = (j + 2) % 3, i1 = (i + 1) % 3, i2 = (i + 2) % 3;
+        const S bpr = out.B(i, j1) * r[j2] - out.B(i, j2) * r[j1];
+        const S rbt = r[i1] * b(j, i2) - r[i2] * b(j, i1);
+        out.A(i, j) = a(i, j) - bpr + rbt;
+        out.A(j, i) = out.A(i, j);
+      }
     return out;
   }
   Matrix6<S> matrix() const {

@@ -74,6 +74,8 @@ SPATIAL_INLINE void walk_up_static(const M& model, std::integral_constant<int, J
 /// Largest compile-time tree whose ancestor walks are unrolled at compile time (each step then knows its joint's
 /// type); deeper trees walk up at run time, where each step switches on the joint type.
 inline constexpr int kMaxUnrolledWalk = 64;
+/// Largest compile-time tree whose LTDL factorisation is unrolled over pairs of ancestors.
+inline constexpr int kMaxUnrolledLtdl = 32;
 
 /// Calls f(j, λ(j)) for every step from body i up to the root: (i, λ(i)), (λ(i), λ(λ(i))), … For a compile-time
 /// index of a compile-time tree both arguments are `std::integral_constant`s.
@@ -119,6 +121,43 @@ void update_transform(const Model<S, T>& model, Data<S, T>& data, I index, const
   }
 }
 
+/// Gravity-only RNEA, τ = G(q). With q̇ = q̈ = 0 every body's acceleration is the uniform field −g: aᵢ has no
+/// angular part, and the force transmitted across joint i is Iᶜᵢ aᵢ = [hᶜᵢ × aᵢ; mᶜᵢ aᵢ], which depends only on the
+/// subtree's mass mᶜᵢ and first moment hᶜᵢ. These are accumulated leaves to root (h_λ += Eᵀ hᵢ + mᵢ r) in place
+/// of whole forces, and `data.f` is filled with the transmitted forces as by the full RNEA.
+template <class S, class T, class Q, class Out>
+void gravity_impl(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q, Out& tau) {
+  const Motion<S> a0 = -model.gravity_motion();
+  joint_sincos(model, data, q);
+  for_each_body(model, [&](auto I) {
+    const auto k = static_cast<std::size_t>(int(I));
+    const int p = model.parent(I);
+    update_transform<false>(model, data, I, q);
+    const Transform<S>& Xup = data.X_up[k];
+    if (p >= 0) data.a[k] = Motion<S>(Vector3<S>::Zero(), mul(Xup.E, data.a[static_cast<std::size_t>(p)].v));
+    else data.a[k] = Xup.apply(a0);
+    // Until body k is reached leaves to root, data.f[k] holds [hᶜ; (mᶜ, 0, 0)].
+    const Inertia<S>& In = model.inertia(I);
+    data.f[k] = Force<S>(In.h, Vector3<S>(In.m, S(0), S(0)));
+  });
+  for_each_body_reverse(model, [&](auto I) {
+    const int i = I;
+    const auto k = static_cast<std::size_t>(i);
+    const int p = model.parent(I);
+    const Vector3<S> h = data.f[k].n;
+    const S m = data.f[k].f[0];
+    const Vector3<S>& g = data.a[k].v;
+    data.f[k] = Force<S>(cross3(h, g), scale3(m, g));
+    tau[i] = model.joint(I).project(data.f[k]);
+    if (p >= 0) {
+      const Transform<S>& Xup = data.X_up[k];
+      Force<S>& fp = data.f[static_cast<std::size_t>(p)];
+      fp.n = add3(fp.n, add3(mul_t(Xup.E, h), scale3(m, Xup.r)));
+      fp.f[0] += m;
+    }
+  });
+}
+
 /// Recursive Newton–Euler inverse dynamics with a compile-time choice of terms (RBDA Table 5.1):
 ///   vᵢ = ⁱX_λ v_λ + Sᵢ q̇ᵢ,  aᵢ = ⁱX_λ a_λ + Sᵢ q̈ᵢ + vᵢ × Sᵢ q̇ᵢ  (a₀ = −a_g),
 ///   fᵢ = Iᵢ aᵢ + vᵢ ×* Iᵢ vᵢ − fᵢˣ,  τᵢ = Sᵢᵀ fᵢ,  f_λ += ⁱX_λᵀ fᵢ.
@@ -131,6 +170,11 @@ void rnea_impl(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBa
   constexpr bool V = (Terms & kVelocity) != 0;
   constexpr bool A = (Terms & kAcceleration) != 0;
   constexpr bool X = has_external_v<Ext>;
+  if constexpr (Terms == kGravity && !X) {
+    (void)qd, (void)qdd, (void)frame;
+    gravity_impl(model, data, q, tau);
+    return;
+  }
   const bool base_frame = X && frame == ForceFrame::Base;
   const Motion<S> a0 = -model.gravity_motion();
   joint_sincos(model, data, q);
@@ -299,11 +343,21 @@ Vector3<S> center_of_mass(const Model<S, T>& model, Data<S, T>& data, const Eige
 
 namespace detail {
 /// CRBA on transforms already in `data.X_up` (RBDA Table 6.2):
-///   Iᶜᵢ = Iᵢ + Σ_children ʲX_iᵀ Iᶜⱼ ʲX_i;  Hᵢᵢ = Sᵢᵀ Iᶜᵢ Sᵢ;  F = Iᶜᵢ Sᵢ carried to each ancestor j by the
-///   force transforms, H_ij = H_ji = Sⱼᵀ F. Entries where neither joint is an ancestor of the other stay zero.
+///   Iᶜᵢ = Iᵢ + Σ_children ʲX_iᵀ Iᶜⱼ ʲX_i;  Hᵢᵢ = Sᵢᵀ Iᶜᵢ Sᵢ;  H_ij = H_ji = Sⱼᵀ Fⱼ for every ancestor j of i, with
+///   Fⱼ = Iᶜᵢ Sᵢ carried to body j by the force transforms. Rather than walking F up the ancestor chain (one force
+///   transform per ancestor), F and every Sⱼ are expressed once in base coordinates (F⁰ = ⁱX_0ᵀ F,
+///   S⁰ⱼ = ʲX_0⁻¹ Sⱼ, kept in `data.S_base`, with ⁱX_0 in `data.X_base`), where H_ij = S⁰ⱼ · F⁰ is a 6-term dot
+///   product (the scalar product is invariant under the change of coordinates). Entries where neither joint is an
+///   ancestor of the other stay zero.
 template <class S, class T>
 void crba_impl(const Model<S, T>& model, Data<S, T>& data) {
-  for_each_body(model, [&](auto I) { data.Ic[static_cast<std::size_t>(int(I))] = model.inertia(I); });
+  for_each_body(model, [&](auto I) {
+    const auto k = static_cast<std::size_t>(int(I));
+    const int p = model.parent(I);
+    data.Ic[k] = model.inertia(I);
+    data.X_base[k] = p >= 0 ? data.X_up[k] * data.X_base[static_cast<std::size_t>(p)] : data.X_up[k];
+    data.S_base[k] = model.joint(I).subspace_inverse(data.X_base[k]);
+  });
   for_each_body_reverse(model, [&](auto I) {
     const auto k = static_cast<std::size_t>(int(I));
     const int p = model.parent(I);
@@ -311,13 +365,15 @@ void crba_impl(const Model<S, T>& model, Data<S, T>& data) {
   });
   for_each_body(model, [&](auto I) {
     const int i = I;
+    const auto k = static_cast<std::size_t>(i);
     const auto joint = model.joint(I);
-    Force<S> F = joint.apply_inertia(data.Ic[static_cast<std::size_t>(i)]);
+    const Force<S> F = joint.apply_inertia(data.Ic[k]);
     data.H(i, i) = joint.project(F);
-    walk_up(model, I, [&](auto J, auto P) {
-      const int j = J, p = P;
-      F = data.X_up[static_cast<std::size_t>(j)].apply_force_inverse(F);
-      const S hip = model.joint(P).project(F);
+    if (model.parent(I) < 0) return;
+    const Force<S> F0 = data.X_base[k].apply_force_inverse(F);
+    walk_up(model, I, [&](auto, auto P) {
+      const int p = P;
+      const S hip = dot(data.S_base[static_cast<std::size_t>(p)], F0);
       data.H(i, p) = hip;
       data.H(p, i) = hip;
     });
@@ -345,15 +401,24 @@ void ltdl(const Model<S, T>& model, Data<S, T>& data) {
   for_each_body(model, [&](auto I) {
     const int k = I;
     L(k, k) = data.H(k, k);
-    for (int i = model.parent(I); i >= 0; i = model.parent(i)) L(k, i) = data.H(k, i);
+    walk_up(model, I, [&](auto, auto P) { L(k, int(P)) = data.H(k, int(P)); });
   });
   for_each_body_reverse(model, [&](auto K) {
     const int k = K;
-    for (int i = model.parent(K); i >= 0; i = model.parent(i)) {
-      const S a = L(k, i) / L(k, k);
-      for (int j = i; j >= 0; j = model.parent(j)) L(i, j) -= a * L(k, j);
+    const S inv_d = S(1) / L(k, k);
+    walk_up(model, K, [&](auto, auto I) {
+      const int i = I;
+      const S lki = L(k, i);
+      const S a = lki * inv_d;
+      L(i, i) -= a * lki;
+      // Unrolled over the ancestors of i only on small compile-time trees (the unrolled code grows as depth²).
+      if constexpr (Model<S, T>::is_static && Model<S, T>::NB <= kMaxUnrolledLtdl) {
+        walk_up(model, I, [&](auto, auto J) { L(i, int(J)) -= a * L(k, int(J)); });
+      } else {
+        walk_up(model, i, [&](int, int j) { L(i, j) -= a * L(k, j); });
+      }
       L(k, i) = a;
-    }
+    });
   });
 }
 
@@ -364,12 +429,15 @@ void ltdl_solve(const Model<S, T>& model, const Data<S, T>& data, Eigen::MatrixB
   const auto& L = data.L;
   for_each_body_reverse(model, [&](auto I) {
     const int i = I;
-    for (int j = model.parent(I); j >= 0; j = model.parent(j)) x[j] -= L(i, j) * x[i];
+    const S xi = x[i];
+    walk_up(model, I, [&](auto, auto J) { x[int(J)] -= L(i, int(J)) * xi; });
   });
   for_each_body(model, [&](auto I) { x[int(I)] /= L(int(I), int(I)); });
   for_each_body(model, [&](auto I) {
     const int i = I;
-    for (int j = model.parent(I); j >= 0; j = model.parent(j)) x[i] -= L(i, j) * x[j];
+    S xi = x[i];
+    walk_up(model, I, [&](auto, auto J) { xi -= L(i, int(J)) * x[int(J)]; });
+    x[i] = xi;
   });
 }
 
@@ -432,10 +500,11 @@ const typename Data<S, T>::VectorN& aba(const Model<S, T>& model, Data<S, T>& da
     data.u[k] = S(tau[i]) - joint.project(data.pA[k]);
     if (p >= 0) {
       const auto pk = static_cast<std::size_t>(p);
+      constexpr int K = detail::NullAngular<std::decay_t<decltype(joint)>>::value;
       ArticulatedInertia<S> Ia = data.IA[k];
-      Ia.subtract_outer(data.U[k], data.Dinv[k]);
-      const Force<S> pa = data.pA[k] + Ia * data.c[k] + data.U[k] * (data.u[k] * data.Dinv[k]);
-      data.IA[pk] += Ia.transformed_inverse(data.X_up[k]);
+      Ia.template subtract_outer<K>(data.U[k], data.Dinv[k]);
+      const Force<S> pa = data.pA[k] + Ia.template mul_null<K>(data.c[k]) + data.U[k] * (data.u[k] * data.Dinv[k]);
+      data.IA[pk] += Ia.template transformed_inverse<K>(data.X_up[k]);
       data.pA[pk] += data.X_up[k].apply_force_inverse(pa);
     }
   });

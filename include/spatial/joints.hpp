@@ -6,7 +6,9 @@
 ///    computed together beforehand, see sincos.hpp);
 ///  - `motion(qd)`: S q̇, the joint velocity in body coordinates (S is constant in body coordinates, so Ṡ = v × S);
 ///  - `project(f)`: Sᵀ f, the component of a body-coordinate force along the joint's motion subspace;
-///  - `apply_inertia(I)`: I S for a rigid-body or articulated inertia I (a column of I for axis-aligned joints).
+///  - `apply_inertia(I)`: I S for a rigid-body or articulated inertia I (a column of I for axis-aligned joints);
+///  - `subspace_inverse(X)`: X⁻¹ S, the motion subspace in the coordinates of the frame X maps from (CRBA uses it
+///    with X = ⁱX_0 to express every joint axis in base coordinates).
 /// The axis-aligned joints are separate types so that each costs only what its axis needs: a revolute joint
 /// about z is one sine, one cosine and a few multiplies, and its S q̇ has one non-zero entry.
 
@@ -14,6 +16,7 @@
 
 #include <cstdint>
 #include <string_view>
+#include <type_traits>
 
 namespace spatial {
 
@@ -56,6 +59,8 @@ namespace detail {
 // Revolute about coordinate axis K (0 = x, 1 = y, 2 = z).
 template <class S, int K>
 struct RevoluteAxisAligned {
+  /// ABA: the articulated inertia passed to the parent, Iᴬ − U Uᵀ / D, maps S = e_K (angular) to zero.
+  static constexpr int null_angular = K;
   static SPATIAL_INLINE Transform<S> transform(S q) {
     if constexpr (K == 0) return rotx(q);
     else if constexpr (K == 1) return roty(q);
@@ -97,6 +102,12 @@ struct RevoluteAxisAligned {
   /// Iᴬ S = [A e_K; Bᵀ e_K].
   static SPATIAL_INLINE Force<S> apply_inertia(const ArticulatedInertia<S>& I) {
     return Force<S>(I.A.col(K), I.B.row(K).transpose());
+  }
+  /// X⁻¹ S for a transform X = ᴮX_A into this body's frame B: the joint's motion subspace in A coordinates,
+  /// [Eᵀ e_K; r × Eᵀ e_K] (Eᵀ e_K is row K of E).
+  static SPATIAL_INLINE Motion<S> subspace_inverse(const Transform<S>& X) {
+    const Vector3<S> w(X.E(K, 0), X.E(K, 1), X.E(K, 2));
+    return Motion<S>(w, detail::cross3(X.r, w));
   }
   /// a × e_K s
   static SPATIAL_INLINE Vector3<S> cross_axis(const Vector3<S>& a, S s) {
@@ -145,6 +156,10 @@ struct PrismaticAxisAligned {
   static SPATIAL_INLINE Force<S> apply_inertia(const ArticulatedInertia<S>& I) {
     return Force<S>(I.B.col(K), I.C.col(K));
   }
+  /// X⁻¹ S = [0; Eᵀ e_K] (row K of E).
+  static SPATIAL_INLINE Motion<S> subspace_inverse(const Transform<S>& X) {
+    return Motion<S>(Vector3<S>::Zero(), Vector3<S>(X.E(K, 0), X.E(K, 1), X.E(K, 2)));
+  }
   /// X_J(q) X_T = xlt(q e_K) X_T: r = r_T + q E_Tᵀ e_K (row K of E_T); E unchanged.
   static SPATIAL_INLINE Transform<S> compose(S q, S /*c*/, S /*s*/, const Transform<S>& XT) {
     Transform<S> X = XT;
@@ -152,6 +167,12 @@ struct PrismaticAxisAligned {
     return X;
   }
 };
+/// K when a joint's articulated-inertia update leaves angular coordinate K null (see
+/// ArticulatedInertia::subtract_outer), −1 for joints without that structure (and run-time joints).
+template <class J, class = void>
+struct NullAngular : std::integral_constant<int, -1> {};
+template <class J>
+struct NullAngular<J, std::void_t<decltype(J::null_angular)>> : std::integral_constant<int, J::null_angular> {};
 }  // namespace detail
 
 #define SPATIAL_AXIS_ALIGNED_JOINT(TYPE, BASE, K)                             \
@@ -184,6 +205,7 @@ struct Joint<S, JointType::RevoluteAxis> {
   SPATIAL_INLINE Transform<S> compose(S /*q*/, S c, S s, const Transform<S>& XT) const {
     return Transform<S>(rot_axis_matrix_cs(axis, c, s), Vector3<S>::Zero()) * XT;
   }
+  SPATIAL_INLINE Motion<S> subspace_inverse(const Transform<S>& X) const { return X.apply_inverse(motion(S(1))); }
   SPATIAL_INLINE void add_motion(Motion<S>& a, S qdd) const { a.w += axis * qdd; }
   SPATIAL_INLINE Motion<S> cross_motion(const Motion<S>& v, S qd) const {
     const Vector3<S> e = axis * qd;
@@ -206,6 +228,7 @@ struct Joint<S, JointType::PrismaticAxis> {
   SPATIAL_INLINE Transform<S> compose(S q, S /*c*/, S /*s*/, const Transform<S>& XT) const {
     return xlt<S>(axis * q) * XT;
   }
+  SPATIAL_INLINE Motion<S> subspace_inverse(const Transform<S>& X) const { return X.apply_inverse(motion(S(1))); }
   SPATIAL_INLINE void add_motion(Motion<S>& a, S qdd) const { a.v += axis * qdd; }
   SPATIAL_INLINE Motion<S> cross_motion(const Motion<S>& v, S qd) const {
     return Motion<S>(Vector3<S>::Zero(), v.w.cross(axis * qd));
@@ -238,6 +261,9 @@ struct RuntimeJoint {
     return visit([&](const auto& j) { return j.compose(q, c, s, XT); });
   }
   SPATIAL_INLINE Motion<S> motion(S qd) const { return visit([&](const auto& j) { return j.motion(qd); }); }
+  SPATIAL_INLINE Motion<S> subspace_inverse(const Transform<S>& X) const {
+    return visit([&](const auto& j) { return j.subspace_inverse(X); });
+  }
   SPATIAL_INLINE S project(const Force<S>& f) const { return visit([&](const auto& j) { return j.project(f); }); }
   template <class In>
   SPATIAL_INLINE Force<S> apply_inertia(const In& I) const {

@@ -497,7 +497,7 @@ struct Data {
     if constexpr (!ModelType::is_static) {
       const auto k = static_cast<std::size_t>(n);
       X_up.resize(k); X_base.resize(k); v.resize(k); a.resize(k); f.resize(k); c.resize(k);
-      Ic.resize(k); IA.resize(k); pA.resize(k); U.resize(k); Dinv.resize(k); u.resize(k);
+      Ic.resize(k); S_base.resize(k); IA.resize(k); pA.resize(k); U.resize(k); Dinv.resize(k); u.resize(k);
     }
     tau = VectorN::Zero(n);
     qdd = VectorN::Zero(n);
@@ -515,6 +515,7 @@ struct Data {
   Array<Force<S>> f{};           ///< RNEA: force transmitted across joint i from body λ(i) to body i
   Array<Motion<S>> c{};          ///< ABA: velocity-product acceleration cᵢ = vᵢ × S q̇
   Array<Inertia<S>> Ic{};        ///< CRBA: composite inertia of the subtree rooted at i
+  Array<Motion<S>> S_base{};     ///< CRBA: joint i's motion subspace Sᵢ in base coordinates (ⁱX_0⁻¹ Sᵢ)
   Array<ArticulatedInertia<S>> IA{};  ///< ABA: articulated-body inertias
   Array<Force<S>> pA{};          ///< ABA: bias forces
   Array<Force<S>> U{};           ///< ABA: Uᵢ = I^A S
