@@ -459,35 +459,38 @@ const typename Data<S, T>::VectorN& forward_dynamics_crba(const Model<S, T>& mod
   return data.qdd;
 }
 
-/// Forward dynamics by the articulated-body algorithm (RBDA Table 7.1):
-///  pass 1: vᵢ, cᵢ = vᵢ × Sᵢ q̇ᵢ, Iᴬᵢ = Iᵢ, pᴬᵢ = vᵢ ×* Iᵢ vᵢ − fᵢˣ;
-///  pass 2 (leaves to root): Uᵢ = Iᴬᵢ Sᵢ, Dᵢ = Sᵢᵀ Uᵢ, uᵢ = τᵢ − Sᵢᵀ pᴬᵢ, and the parent receives
-///    Iᵃ = Iᴬᵢ − Uᵢ Uᵢᵀ / Dᵢ, pᵃ = pᴬᵢ + Iᵃ cᵢ + Uᵢ uᵢ / Dᵢ through ⁱX_λᵀ;
-///  pass 3: a′ = ⁱX_λ a_λ + cᵢ (a₀ = −a_g), q̈ᵢ = (uᵢ − Uᵢᵀ a′) / Dᵢ, aᵢ = a′ + Sᵢ q̈ᵢ.
-/// A joint whose subtree has no inertia gives Dᵢ = 0 and non-finite results. Returns `data.qdd`.
-template <class S, class T, class Q, class QD, class Tau, class Ext = NoExternalForces>
-const typename Data<S, T>::VectorN& aba(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q,
-                                        const Eigen::MatrixBase<QD>& qd, const Eigen::MatrixBase<Tau>& tau,
-                                        const Ext& fext = Ext(), ForceFrame frame = ForceFrame::Body) {
-  constexpr bool X = detail::has_external_v<Ext>;
+namespace detail {
+/// The articulated-body algorithm with a compile-time choice of terms: without `V` (q̇ = 0) vᵢ = cᵢ = 0, pass 1 is
+/// the transforms alone and pass 2 drops Iᵃ cᵢ; without `G`, a₀ = 0. `aba` below and `aba<Dyn>` (options.hpp).
+template <bool G, bool V, class S, class T, class Q, class QD, class Tau, class Ext>
+void aba_impl(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q,
+              const Eigen::MatrixBase<QD>& qd, const Eigen::MatrixBase<Tau>& tau, const Ext& fext, ForceFrame frame) {
+  constexpr bool X = has_external_v<Ext>;
   const bool base_frame = X && frame == ForceFrame::Base;
-  detail::joint_sincos(model, data, q);
+  joint_sincos(model, data, q);
   for_each_body(model, [&](auto I) {
     const int i = I;
     const auto k = static_cast<std::size_t>(i);
-    const int p = model.parent(I);
-    const auto joint = model.joint(I);
-    if (base_frame) detail::update_transform<true>(model, data, I, q);
-    else detail::update_transform<false>(model, data, I, q);
-    const Motion<S> vJ = joint.motion(S(qd[i]));
-    data.v[k] = p >= 0 ? data.X_up[k].apply(data.v[static_cast<std::size_t>(p)]) + vJ : vJ;
-    data.c[k] = joint.cross_motion(data.v[k], S(qd[i]));
+    if (base_frame) update_transform<true>(model, data, I, q);
+    else update_transform<false>(model, data, I, q);
     const Inertia<S>& In = model.inertia(i);
     data.IA[k] = ArticulatedInertia<S>(In);
-    data.pA[k] = cross(data.v[k], In * data.v[k]);
-    if constexpr (X) {
-      if (base_frame) data.pA[k] -= data.X_base[k].apply_force(fext[k]);
-      else data.pA[k] -= fext[k];
+    if constexpr (V) {
+      const int p = model.parent(I);
+      const auto joint = model.joint(I);
+      const Motion<S> vJ = joint.motion(S(qd[i]));
+      data.v[k] = p >= 0 ? data.X_up[k].apply(data.v[static_cast<std::size_t>(p)]) + vJ : vJ;
+      data.c[k] = joint.cross_motion(data.v[k], S(qd[i]));
+      data.pA[k] = cross(data.v[k], In * data.v[k]);
+      if constexpr (X) {
+        if (base_frame) data.pA[k] -= data.X_base[k].apply_force(fext[k]);
+        else data.pA[k] -= fext[k];
+      }
+    } else if constexpr (X) {
+      if (base_frame) data.pA[k] = -data.X_base[k].apply_force(fext[k]);
+      else data.pA[k] = -fext[k];
+    } else {
+      data.pA[k] = Force<S>::Zero();
     }
   });
   for_each_body_reverse(model, [&](auto I) {
@@ -500,24 +503,41 @@ const typename Data<S, T>::VectorN& aba(const Model<S, T>& model, Data<S, T>& da
     data.u[k] = S(tau[i]) - joint.project(data.pA[k]);
     if (p >= 0) {
       const auto pk = static_cast<std::size_t>(p);
-      constexpr int K = detail::NullAngular<std::decay_t<decltype(joint)>>::value;
+      constexpr int K = NullAngular<std::decay_t<decltype(joint)>>::value;
       ArticulatedInertia<S> Ia = data.IA[k];
       Ia.template subtract_outer<K>(data.U[k], data.Dinv[k]);
-      const Force<S> pa = data.pA[k] + Ia.template mul_null<K>(data.c[k]) + data.U[k] * (data.u[k] * data.Dinv[k]);
+      Force<S> pa = data.pA[k] + data.U[k] * (data.u[k] * data.Dinv[k]);
+      if constexpr (V) pa += Ia.template mul_null<K>(data.c[k]);
       data.IA[pk] += Ia.template transformed_inverse<K>(data.X_up[k]);
       data.pA[pk] += data.X_up[k].apply_force_inverse(pa);
     }
   });
-  const Motion<S> a0 = -model.gravity_motion();
   for_each_body(model, [&](auto I) {
     const int i = I;
     const auto k = static_cast<std::size_t>(i);
     const int p = model.parent(I);
-    data.a[k] = data.X_up[k].apply(p >= 0 ? data.a[static_cast<std::size_t>(p)] : a0) + data.c[k];
+    if (p >= 0) data.a[k] = data.X_up[k].apply(data.a[static_cast<std::size_t>(p)]);
+    else if constexpr (G) data.a[k] = data.X_up[k].apply(-model.gravity_motion());
+    else data.a[k] = Motion<S>::Zero();
+    if constexpr (V) data.a[k] += data.c[k];
     const S qddi = (data.u[k] - dot(data.a[k], data.U[k])) * data.Dinv[k];
     data.qdd[i] = qddi;
     model.joint(I).add_motion(data.a[k], qddi);
   });
+}
+}  // namespace detail
+
+/// Forward dynamics by the articulated-body algorithm (RBDA Table 7.1):
+///  pass 1: vᵢ, cᵢ = vᵢ × Sᵢ q̇ᵢ, Iᴬᵢ = Iᵢ, pᴬᵢ = vᵢ ×* Iᵢ vᵢ − fᵢˣ;
+///  pass 2 (leaves to root): Uᵢ = Iᴬᵢ Sᵢ, Dᵢ = Sᵢᵀ Uᵢ, uᵢ = τᵢ − Sᵢᵀ pᴬᵢ, and the parent receives
+///    Iᵃ = Iᴬᵢ − Uᵢ Uᵢᵀ / Dᵢ, pᵃ = pᴬᵢ + Iᵃ cᵢ + Uᵢ uᵢ / Dᵢ through ⁱX_λᵀ;
+///  pass 3: a′ = ⁱX_λ a_λ + cᵢ (a₀ = −a_g), q̈ᵢ = (uᵢ − Uᵢᵀ a′) / Dᵢ, aᵢ = a′ + Sᵢ q̈ᵢ.
+/// A joint whose subtree has no inertia gives Dᵢ = 0 and non-finite results. Returns `data.qdd`.
+template <class S, class T, class Q, class QD, class Tau, class Ext = NoExternalForces>
+const typename Data<S, T>::VectorN& aba(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q,
+                                        const Eigen::MatrixBase<QD>& qd, const Eigen::MatrixBase<Tau>& tau,
+                                        const Ext& fext = Ext(), ForceFrame frame = ForceFrame::Body) {
+  detail::aba_impl<true, true>(model, data, q, qd, tau, fext, frame);
   return data.qdd;
 }
 

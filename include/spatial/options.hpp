@@ -98,67 +98,7 @@ template <Dyn O, class S, class T, class Q, class QD, class Tau, class Ext = NoE
 const typename Data<S, T>::VectorN& aba(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q,
                                         const Eigen::MatrixBase<QD>& qd, const Eigen::MatrixBase<Tau>& tau,
                                         const Ext& fext = Ext(), ForceFrame frame = ForceFrame::Body) {
-  constexpr bool G = has(O, Dyn::Gravity);
-  constexpr bool V = has(O, Dyn::Velocity);
-  constexpr bool X = detail::has_external_v<Ext>;
-  const bool base_frame = X && frame == ForceFrame::Base;
-  detail::joint_sincos(model, data, q);
-  for_each_body(model, [&](auto I) {
-    const int i = I;
-    const auto k = static_cast<std::size_t>(i);
-    if (base_frame) detail::update_transform<true>(model, data, I, q);
-    else detail::update_transform<false>(model, data, I, q);
-    const Inertia<S>& In = model.inertia(i);
-    data.IA[k] = ArticulatedInertia<S>(In);
-    if constexpr (V) {
-      const int p = model.parent(I);
-      const auto joint = model.joint(I);
-      const Motion<S> vJ = joint.motion(S(qd[i]));
-      data.v[k] = p >= 0 ? data.X_up[k].apply(data.v[static_cast<std::size_t>(p)]) + vJ : vJ;
-      data.c[k] = joint.cross_motion(data.v[k], S(qd[i]));
-      data.pA[k] = cross(data.v[k], In * data.v[k]);
-      if constexpr (X) {
-        if (base_frame) data.pA[k] -= data.X_base[k].apply_force(fext[k]);
-        else data.pA[k] -= fext[k];
-      }
-    } else if constexpr (X) {
-      if (base_frame) data.pA[k] = -data.X_base[k].apply_force(fext[k]);
-      else data.pA[k] = -fext[k];
-    } else {
-      data.pA[k] = Force<S>::Zero();
-    }
-  });
-  for_each_body_reverse(model, [&](auto I) {
-    const int i = I;
-    const auto k = static_cast<std::size_t>(i);
-    const int p = model.parent(I);
-    const auto joint = model.joint(I);
-    data.U[k] = joint.apply_inertia(data.IA[k]);
-    data.Dinv[k] = S(1) / joint.project(data.U[k]);
-    data.u[k] = S(tau[i]) - joint.project(data.pA[k]);
-    if (p >= 0) {
-      const auto pk = static_cast<std::size_t>(p);
-      ArticulatedInertia<S> Ia = data.IA[k];
-      Ia.subtract_outer(data.U[k], data.Dinv[k]);
-      Force<S> pa;
-      if constexpr (V) pa = data.pA[k] + Ia * data.c[k] + data.U[k] * (data.u[k] * data.Dinv[k]);
-      else pa = data.pA[k] + data.U[k] * (data.u[k] * data.Dinv[k]);
-      data.IA[pk] += Ia.transformed_inverse(data.X_up[k]);
-      data.pA[pk] += data.X_up[k].apply_force_inverse(pa);
-    }
-  });
-  for_each_body(model, [&](auto I) {
-    const int i = I;
-    const auto k = static_cast<std::size_t>(i);
-    const int p = model.parent(I);
-    if (p >= 0) data.a[k] = data.X_up[k].apply(data.a[static_cast<std::size_t>(p)]);
-    else if constexpr (G) data.a[k] = data.X_up[k].apply(-model.gravity_motion());
-    else data.a[k] = Motion<S>::Zero();
-    if constexpr (V) data.a[k] += data.c[k];
-    const S qddi = (data.u[k] - dot(data.a[k], data.U[k])) * data.Dinv[k];
-    data.qdd[i] = qddi;
-    model.joint(I).add_motion(data.a[k], qddi);
-  });
+  detail::aba_impl<has(O, Dyn::Gravity), has(O, Dyn::Velocity)>(model, data, q, qd, tau, fext, frame);
   return data.qdd;
 }
 
