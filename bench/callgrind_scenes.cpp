@@ -5,6 +5,8 @@
 #include <spatial/spatial.hpp>
 #include <spatial/models/hoap3_stance_right.hpp>
 
+#include "bench_models.hpp"  // to_runtime
+
 #include <cstdio>
 #include <cstdlib>
 #include <random>
@@ -76,14 +78,6 @@ SCENES(static, g_whole, g_arms)
 SCENES(runtime, g_whole_rt, g_arms_rt)
 
 namespace {
-Model<double> runtime_twin(const Model<double, stance::Tree>& m) {
-  ModelBuilder<double> b;
-  b.set_gravity(m.gravity());
-  for (int i = 0; i < m.size(); ++i)
-    b.add_body(m.body_name(i), m.parent(i), m.joint_type(i), m.tree_transform(i), m.inertia(i), m.axis(i),
-               m.joint_name(i));
-  return b.build();
-}
 
 template <class T>
 void fill(Fx<T>& f, const std::vector<Eigen::VectorXd>& q, const std::vector<Eigen::VectorXd>& qd,
@@ -131,7 +125,7 @@ int main(int argc, char** argv) {
   const ReducedModel<double> arms = keep_branches(whole, {"R_SFE", "L_SFE"}, held);
   g_whole = new Fx<stance::Tree>(whole);
   g_arms = new Fx<ArmsTree>(Model<double, ArmsTree>::from(arms.model));
-  g_whole_rt = new Fx<DynamicTree>(runtime_twin(whole));
+  g_whole_rt = new Fx<DynamicTree>(spatial::bench::to_runtime(whole));
   g_arms_rt = new Fx<DynamicTree>(arms.model);
   fill(*g_whole, q, qd, u, nullptr);
   fill(*g_whole_rt, q, qd, u, nullptr);

@@ -17,6 +17,7 @@
 //    double, with the time per call of each (bench/error_study_scenes.hpp). Needs the URDF loader: without it
 //    (SPATIAL_ERROR_STUDY_SCENES undefined) it is recorded as pending in the JSON.
 #include "bench_models.hpp"
+#include "support/integrators.hpp"
 #ifdef SPATIAL_ERROR_STUDY_SCENES
 #include "error_study_scenes.hpp"
 #endif
@@ -122,16 +123,7 @@ void study_scalar(const BenchModel<TreeT>& entry, const InputPool<double>& pool,
 
 // ---- simulation ------------------------------------------------------------------------------------------------
 
-enum class Method { SemiImplicitEuler, Midpoint, RK4 };
-const char* method_name(Method m) {
-  switch (m) {
-    case Method::SemiImplicitEuler: return "semi-implicit Euler";
-    case Method::Midpoint: return "midpoint (RK2)";
-    case Method::RK4: return "RK4";
-  }
-  return "?";
-}
-int evaluations_per_step(Method m) { return m == Method::SemiImplicitEuler ? 1 : m == Method::Midpoint ? 2 : 4; }
+using spatial::testing::Integrator;
 
 constexpr double kDamping = 0.05;  // N·m·s/rad, τ = −D q̇
 
@@ -153,35 +145,11 @@ struct Simulator {
 
   V acc(const V& q, const V& qd) { return aba(model, data, q, qd, V(-S(kDamping) * qd)); }
 
-  std::pair<V, V> run(Method method, double duration, long steps) {
+  std::pair<V, V> run(Integrator method, double duration, long steps) {
     const S h = S(duration / double(steps));
     V q = q0, qd = qd0;
-    for (long s = 0; s < steps; ++s) {
-      switch (method) {
-        case Method::SemiImplicitEuler: {
-          qd += h * acc(q, qd);
-          q += h * qd;
-          break;
-        }
-        case Method::Midpoint: {
-          const V a1 = acc(q, qd);
-          const V qm = q + (h / 2) * qd, qdm = qd + (h / 2) * a1;
-          const V a2 = acc(qm, qdm);
-          q += h * qdm;
-          qd += h * a2;
-          break;
-        }
-        case Method::RK4: {
-          const V k1q = qd, k1v = acc(q, qd);
-          const V k2q = qd + (h / 2) * k1v, k2v = acc(q + (h / 2) * k1q, k2q);
-          const V k3q = qd + (h / 2) * k2v, k3v = acc(q + (h / 2) * k2q, k3q);
-          const V k4q = qd + h * k3v, k4v = acc(q + h * k3q, k4q);
-          q += (h / 6) * (k1q + 2 * k2q + 2 * k3q + k4q);
-          qd += (h / 6) * (k1v + 2 * k2v + 2 * k3v + k4v);
-          break;
-        }
-      }
-    }
+    for (long s = 0; s < steps; ++s)
+      spatial::testing::integrator_step(method, [this](const V& qq, const V& vv) { return acc(qq, vv); }, q, qd, h);
     return {q, qd};
   }
 };
@@ -209,14 +177,14 @@ void study_simulation(const BenchModel<TreeT>& entry, std::vector<SimPoint>& out
   Simulator<long double, DynamicTree> reference(to_runtime(entry.model).template cast<long double>(),
                                                 q0.template cast<long double>(), qd0.template cast<long double>());
   const double t_ref0 = thread_cpu_ns();
-  const auto [q_ref, qd_ref] = reference.run(Method::RK4, duration, ref_steps);
+  const auto [q_ref, qd_ref] = reference.run(Integrator::RK4, duration, ref_steps);
   const double ref_seconds = (thread_cpu_ns() - t_ref0) * 1e-9;
   meta << "\"model\": \"" << entry.name << "\", \"duration_s\": " << duration << ", \"damping\": " << kDamping
        << ", \"reference\": {\"method\": \"RK4\", \"scalar\": \"long double\", \"dt\": " << ref_dt
        << ", \"steps\": " << ref_steps << ", \"wall_s\": " << ref_seconds << "}";
 
   Simulator<double, TreeT> sim(entry.model, q0, qd0);
-  for (Method method : {Method::SemiImplicitEuler, Method::Midpoint, Method::RK4}) {
+  for (Integrator method : {Integrator::SemiImplicitEuler, Integrator::Midpoint, Integrator::RK4}) {
     for (double dt : dts) {
       const long steps = std::lround(duration / dt);
       std::vector<double> times;
@@ -229,7 +197,7 @@ void study_simulation(const BenchModel<TreeT>& entry, std::vector<SimPoint>& out
       std::sort(times.begin(), times.end());
       const Vl dq = end.first.template cast<long double>() - q_ref;
       const Vl dqd = end.second.template cast<long double>() - qd_ref;
-      out.push_back({method_name(method), dt, steps, evaluations_per_step(method), times[2] / duration,
+      out.push_back({spatial::testing::integrator_name(method), dt, steps, spatial::testing::integrator_evaluations(method), times[2] / duration,
                      static_cast<double>(dq.cwiseAbs().maxCoeff()), static_cast<double>(dqd.cwiseAbs().maxCoeff())});
     }
   }

@@ -27,7 +27,7 @@ EIGEN_INC=${EIGEN_INC//-I/-isystem }
 FLAGS="-std=c++17 -O3 -march=x86-64-v3 -DNDEBUG -g"
 echo "building $OUT/callgrind_scenes with $CXX $FLAGS" >&2
 # shellcheck disable=SC2086
-"$CXX" $FLAGS -Wall -Wextra -Wpedantic -Iinclude -I"$OUT/include" $EIGEN_INC bench/callgrind_scenes.cpp \
+"$CXX" $FLAGS -Wall -Wextra -Wpedantic -Iinclude -I"$OUT/include" -Ibench -Itests $EIGEN_INC bench/callgrind_scenes.cpp \
   -o "$OUT/callgrind_scenes"
 rm -f "$OUT"/callgrind.out.*
 valgrind --tool=callgrind --callgrind-out-file="$OUT/callgrind.out.scenes" "$OUT/callgrind_scenes" "$REPS" \

@@ -1,6 +1,6 @@
 #pragma once
-// Fixed-step integrators of the passive dynamics q̈ = ABA(q, q̇, τ = 0) for the test suites (not part of the
-// installed library). State (q, q̇); one step of size h.
+// Fixed-step integrators of q̈ = f(q, q̇) for the test suites and the error study (not part of the installed
+// library); by default the passive dynamics q̈ = ABA(q, q̇, τ = 0). State (q, q̇); one step of size h.
 //
 //   semi-implicit Euler  q̇ ← q̇ + h q̈(q, q̇);  q ← q + h q̇   (symplectic, order 1: bounded energy error O(h))
 //   midpoint (RK2)       explicit midpoint rule, order 2
@@ -26,11 +26,14 @@ inline int integrator_order(Integrator m) {
   return m == Integrator::SemiImplicitEuler ? 1 : m == Integrator::Midpoint ? 2 : 4;
 }
 
-/// Advances (q, qd) by one step of size h of the unforced, undamped dynamics, using forward dynamics by ABA.
-template <class S, class T, class V>
-void integrator_step(Integrator method, const Model<S, T>& model, Data<S, T>& data, V& q, V& qd, S h) {
-  const V zero = V::Zero(q.size());
-  auto acc = [&](const V& qq, const V& vv) -> V { return aba(model, data, qq, vv, zero); };
+/// Evaluations of the acceleration per step.
+inline int integrator_evaluations(Integrator m) {
+  return m == Integrator::SemiImplicitEuler ? 1 : m == Integrator::Midpoint ? 2 : 4;
+}
+
+/// Advances (q, qd) by one step of size h of q̈ = acc(q, q̇).
+template <class S, class V, class Acc>
+void integrator_step(Integrator method, Acc&& acc, V& q, V& qd, S h) {
   switch (method) {
     case Integrator::SemiImplicitEuler: {
       qd += h * acc(q, qd);
@@ -55,6 +58,13 @@ void integrator_step(Integrator method, const Model<S, T>& model, Data<S, T>& da
       break;
     }
   }
+}
+
+/// Advances (q, qd) by one step of size h of the unforced, undamped dynamics, using forward dynamics by ABA.
+template <class S, class T, class V>
+void integrator_step(Integrator method, const Model<S, T>& model, Data<S, T>& data, V& q, V& qd, S h) {
+  const V zero = V::Zero(q.size());
+  integrator_step(method, [&](const V& qq, const V& vv) -> V { return aba(model, data, qq, vv, zero); }, q, qd, h);
 }
 
 }  // namespace spatial::testing
