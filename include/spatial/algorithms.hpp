@@ -441,6 +441,29 @@ void ltdl_solve(const Model<S, T>& model, const Data<S, T>& data, Eigen::MatrixB
   });
 }
 
+namespace detail {
+/// q̈ = H⁻¹ (τ − bias) by CRBA and LTDL, the bias being RNEA with `Terms` (kGravity, kVelocity; never
+/// kAcceleration). With no term the bias pass is skipped and only the transforms are computed. Result in data.qdd.
+template <unsigned Terms, class S, class T, class Q, class QD, class Tau>
+void forward_dynamics_crba_impl(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q,
+                                const Eigen::MatrixBase<QD>& qd, const Eigen::MatrixBase<Tau>& tau) {
+  static_assert((Terms & kAcceleration) == 0u, "the bias forces have no acceleration term");
+  if constexpr (Terms != 0u) {
+    rnea_impl<Terms>(model, data, q, qd, qd, NoExternalForces{}, ForceFrame::Body, data.tmp);
+    data.tmp = tau - data.tmp;
+  } else {
+    (void)qd;
+    joint_sincos(model, data, q);
+    for_each_body(model, [&](auto I) { update_transform<false>(model, data, I, q); });
+    data.tmp = tau;
+  }
+  crba_impl(model, data);  // reuses the transforms computed by the bias-force pass
+  ltdl(model, data);
+  data.qdd = data.tmp;
+  ltdl_solve(model, data, data.qdd);
+}
+}  // namespace detail
+
 /// Forward dynamics by CRBA and the tree-sparse LTDL factorisation (RBDA §6.5):
 /// q̈ = H⁻¹ (τ − C(q, q̇)). Leaves H in `data.H`, its factor in `data.L`, τ − C in `data.tmp`; `data.tau` is not
 /// touched. Returns `data.qdd`.
@@ -449,13 +472,7 @@ const typename Data<S, T>::VectorN& forward_dynamics_crba(const Model<S, T>& mod
                                                           const Eigen::MatrixBase<Q>& q,
                                                           const Eigen::MatrixBase<QD>& qd,
                                                           const Eigen::MatrixBase<Tau>& tau) {
-  using namespace detail;
-  rnea_impl<kGravity | kVelocity>(model, data, q, qd, qd, NoExternalForces{}, ForceFrame::Body, data.tmp);
-  data.tmp = tau - data.tmp;
-  crba_impl(model, data);  // reuses the transforms computed by the bias-force pass
-  ltdl(model, data);
-  data.qdd = data.tmp;
-  ltdl_solve(model, data, data.qdd);
+  detail::forward_dynamics_crba_impl<detail::kGravity | detail::kVelocity>(model, data, q, qd, tau);
   return data.qdd;
 }
 

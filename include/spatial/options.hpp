@@ -111,19 +111,7 @@ const typename Data<S, T>::VectorN& forward_dynamics_crba(const Model<S, T>& mod
                                                           const Eigen::MatrixBase<QD>& qd,
                                                           const Eigen::MatrixBase<Tau>& tau) {
   constexpr unsigned terms = detail::rnea_terms(O) & ~unsigned(detail::kAcceleration);
-  if constexpr (terms != 0u) {
-    detail::rnea_impl<terms>(model, data, q, qd, qd, NoExternalForces{}, ForceFrame::Body, data.tmp);
-    data.tmp = tau - data.tmp;
-  } else {
-    (void)qd;
-    detail::joint_sincos(model, data, q);
-    for_each_body(model, [&](auto I) { detail::update_transform<false>(model, data, I, q); });
-    data.tmp = tau;
-  }
-  detail::crba_impl(model, data);
-  ltdl(model, data);
-  data.qdd = data.tmp;
-  ltdl_solve(model, data, data.qdd);
+  detail::forward_dynamics_crba_impl<terms>(model, data, q, qd, tau);
   return data.qdd;
 }
 
