@@ -14,6 +14,7 @@
 #include "spatial/algebra.hpp"
 #include "spatial/joints.hpp"
 #include "spatial/model.hpp"
+#include "spatial/simd.hpp"
 #include "spatial/sincos.hpp"
 
 #include <type_traits>
@@ -161,8 +162,9 @@ void gravity_impl(const Model<S, T>& model, Data<S, T>& data, const Eigen::Matri
 /// Recursive Newton–Euler inverse dynamics with a compile-time choice of terms (RBDA Table 5.1):
 ///   vᵢ = ⁱX_λ v_λ + Sᵢ q̇ᵢ,  aᵢ = ⁱX_λ a_λ + Sᵢ q̈ᵢ + vᵢ × Sᵢ q̇ᵢ  (a₀ = −a_g),
 ///   fᵢ = Iᵢ aᵢ + vᵢ ×* Iᵢ vᵢ − fᵢˣ,  τᵢ = Sᵢᵀ fᵢ,  f_λ += ⁱX_λᵀ fᵢ.
-/// Terms switched off are not computed at all (no multiplications by zero).
-template <unsigned Terms, class S, class T, class Q, class QD, class QDD, class Ext, class Out>
+/// Terms switched off are not computed at all (no multiplications by zero). `Simd` = false forces the scalar code
+/// (tests compare the two paths; see simd.hpp for when the AVX2 path is taken).
+template <unsigned Terms, bool Simd = true, class S, class T, class Q, class QD, class QDD, class Ext, class Out>
 void rnea_impl(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q,
                const Eigen::MatrixBase<QD>& qd, const Eigen::MatrixBase<QDD>& qdd, const Ext& fext,
                ForceFrame frame, Out& tau) {
@@ -170,6 +172,13 @@ void rnea_impl(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBa
   constexpr bool V = (Terms & kVelocity) != 0;
   constexpr bool A = (Terms & kAcceleration) != 0;
   constexpr bool X = has_external_v<Ext>;
+#if SPATIAL_SIMD_AVX2
+  if constexpr (Simd && !X && rnea_simd_enabled<S, T>()) {
+    (void)fext, (void)frame;
+    simd::rnea<Terms>(model, data, q, qd, qdd, tau);
+    return;
+  }
+#endif
   if constexpr (Terms == kGravity && !X) {
     (void)qd, (void)qdd, (void)frame;
     gravity_impl(model, data, q, tau);

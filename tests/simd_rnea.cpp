@@ -1,0 +1,227 @@
+// The AVX2 path of RNEA (simd.hpp) against the scalar path (rnea_impl<Terms, /*Simd=*/false>), in one translation
+// unit built with -mavx2 -mfma: every term combination, every per-body output (X_up, v, a, f) and τ, on the HOAP-3
+// models and on random compile-time trees of revolute joints about coordinate axes (several roots, branches, a
+// chain deeper than the unrolling limits), including configurations beyond the fast sine range, NaN inputs and
+// the public entry points that dispatch to it (rnea, bias_forces, gravity_torques, rnea<Dyn>, forward dynamics by
+// CRBA, which reuses the transforms of its bias-force pass). No call may allocate (EIGEN_RUNTIME_NO_MALLOC).
+#include <spatial/models/hoap3_double_pendulum.hpp>
+#include <spatial/models/hoap3_stance_left.hpp>
+#include <spatial/models/hoap3_stance_right.hpp>
+#include <spatial/models/hoap3_torso.hpp>
+#include <spatial/spatial.hpp>
+
+#include "support/random_model.hpp"
+#include "support/reference.hpp"
+#include "support/static_trees.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+#if !SPATIAL_SIMD_AVX2
+#error "simd_rnea.cpp must be compiled with AVX2 and FMA (tests/CMakeLists.txt adds -mavx2 -mfma)"
+#endif
+
+namespace {
+using namespace spatial;
+namespace static_trees = spatial::testing::static_trees;
+using J = JointType;
+
+// Revolute joints about coordinate axes only: two roots, branches, every axis.
+using Rev9 = Tree<Parents<-1, 0, 1, 0, 3, -1, 5, 2, 2>,
+                  Joints<J::RevoluteX, J::RevoluteY, J::RevoluteZ, J::RevoluteZ, J::RevoluteX, J::RevoluteY,
+                         J::RevoluteZ, J::RevoluteX, J::RevoluteY>>;
+constexpr JointType kAxes[3] = {J::RevoluteZ, J::RevoluteX, J::RevoluteY};
+template <std::size_t... I>
+auto make_chain(std::index_sequence<I...>) -> Tree<Parents<(static_cast<int>(I) - 1)...>, Joints<kAxes[I % 3]...>>;
+// Deeper than kMaxUnrolledLtdl (32) and longer than any reference model.
+using RevChain40 = decltype(make_chain(std::make_index_sequence<40>{}));
+
+static_assert(detail::rnea_simd_enabled<double, Rev9>());
+static_assert(detail::rnea_simd_enabled<double, models::hoap3_stance_right::Tree>());
+static_assert(!detail::rnea_simd_enabled<float, Rev9>(), "float takes the scalar path");
+static_assert(!detail::rnea_simd_enabled<double, DynamicTree>(), "run-time trees take the scalar path");
+static_assert(!detail::rnea_simd_enabled<double, static_trees::Branched8>(), "other joint types: scalar path");
+
+template <class TreeT>
+int depth() {
+  int d = 0;
+  for (int i = 0; i < TreeT::size; ++i) {
+    int k = 0;
+    for (int j = i; j >= 0; j = TreeT::parent[static_cast<std::size_t>(j)]) ++k;
+    d = std::max(d, k);
+  }
+  return d;
+}
+
+/// Both paths evaluate the same expressions in a different order (and with fused multiply–adds), so every output
+/// may differ by a few roundings per level of the tree relative to the largest value it is built from: the bound
+/// is 16 (depth + 1) u times the largest magnitude of that output over all bodies.
+template <class TreeT>
+double tolerance() {
+  return 16.0 * (depth<TreeT>() + 1) * std::numeric_limits<double>::epsilon();
+}
+
+template <class TreeT>
+struct Compare {
+  double tol = tolerance<TreeT>();
+  template <class A, class B>
+  void operator()(const char* what, int body, const Eigen::MatrixBase<A>& simd, const Eigen::MatrixBase<B>& scalar,
+                  double scale) const {
+    const double diff = (simd - scalar).cwiseAbs().maxCoeff();
+    EXPECT_LE(diff, tol * std::max(scale, 1.0)) << what << " of body " << body << "\nsimd:   " << simd.transpose()
+                                                << "\nscalar: " << scalar.transpose();
+  }
+};
+
+template <class TreeT, unsigned Terms>
+void compare_terms(const Model<double, TreeT>& model, const Eigen::Matrix<double, TreeT::size, 1>& q,
+                   const Eigen::Matrix<double, TreeT::size, 1>& qd, const Eigen::Matrix<double, TreeT::size, 1>& qdd) {
+  SCOPED_TRACE(::testing::Message() << "terms " << Terms);
+  Data<double, TreeT> ds(model), dr(model);
+  Eigen::internal::set_is_malloc_allowed(false);
+  detail::rnea_impl<Terms, true>(model, ds, q, qd, qdd, NoExternalForces{}, ForceFrame::Body, ds.tau);
+  detail::rnea_impl<Terms, false>(model, dr, q, qd, qdd, NoExternalForces{}, ForceFrame::Body, dr.tau);
+  Eigen::internal::set_is_malloc_allowed(true);
+  const Compare<TreeT> cmp;
+  constexpr bool V = (Terms & 2u) != 0;
+  double sv = 0, sa = 0, sf = 0;
+  for (int i = 0; i < TreeT::size; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    sv = std::max(sv, dr.v[k].vector().cwiseAbs().maxCoeff());
+    sa = std::max(sa, dr.a[k].vector().cwiseAbs().maxCoeff());
+    sf = std::max(sf, dr.f[k].vector().cwiseAbs().maxCoeff());
+  }
+  cmp("tau", -1, ds.tau, dr.tau, sf);
+  for (int i = 0; i < TreeT::size; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    // The transforms are one rotation by (cos q, sin q) of the tree transform: a rounding or two per entry.
+    EXPECT_LE((ds.X_up[k].E - dr.X_up[k].E).cwiseAbs().maxCoeff(), 4 * std::numeric_limits<double>::epsilon());
+    EXPECT_EQ(ds.X_up[k].r, dr.X_up[k].r);
+    if (V) cmp("v", i, ds.v[k].vector(), dr.v[k].vector(), sv);
+    cmp("a", i, ds.a[k].vector(), dr.a[k].vector(), sa);
+    cmp("f", i, ds.f[k].vector(), dr.f[k].vector(), sf);
+  }
+}
+
+template <class TreeT>
+void compare_all_terms(const Model<double, TreeT>& model, unsigned seed, double angle_scale) {
+  using VN = Eigen::Matrix<double, TreeT::size, 1>;
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int trial = 0; trial < 20; ++trial) {
+    VN q, qd, qdd;
+    for (int i = 0; i < TreeT::size; ++i) {
+      q[i] = angle_scale * u(rng);
+      qd[i] = 3.0 * u(rng);
+      qdd[i] = 10.0 * u(rng);
+    }
+    compare_terms<TreeT, 1u>(model, q, qd, qdd);
+    compare_terms<TreeT, 2u>(model, q, qd, qdd);
+    compare_terms<TreeT, 3u>(model, q, qd, qdd);
+    compare_terms<TreeT, 4u>(model, q, qd, qdd);
+    compare_terms<TreeT, 5u>(model, q, qd, qdd);
+    compare_terms<TreeT, 6u>(model, q, qd, qdd);
+    compare_terms<TreeT, 7u>(model, q, qd, qdd);
+  }
+}
+
+template <class TreeT>
+Model<double, TreeT> random_static(unsigned seed) {
+  return Model<double, TreeT>::from(spatial::testing::build_model(static_trees::bodies_for<TreeT>(seed)));
+}
+
+TEST(SimdRnea, HoapModelsAllTerms) {
+  compare_all_terms(models::hoap3_stance_right::model(), 1, 3.2);
+  compare_all_terms(models::hoap3_stance_left::model(), 2, 3.2);
+  compare_all_terms(models::hoap3_torso::model(), 3, 3.2);
+  compare_all_terms(models::hoap3_double_pendulum::model(), 4, 3.2);
+}
+
+TEST(SimdRnea, RandomTreesAllTerms) {
+  for (unsigned seed = 10; seed < 14; ++seed) {
+    compare_all_terms(random_static<Rev9>(seed), seed, 3.2);
+    compare_all_terms(random_static<RevChain40>(seed), seed, 3.2);
+  }
+}
+
+TEST(SimdRnea, LargeAnglesTakeTheLibraryPath) {
+  // |q| up to 10⁶ rad: beyond the vectorised sine's range (10⁵), where sincos_all falls back to std::sin/cos.
+  compare_all_terms(models::hoap3_stance_right::model(), 5, 1e6);
+  compare_all_terms(random_static<Rev9>(20), 20, 1e6);
+}
+
+TEST(SimdRnea, OtherGravity) {
+  compare_all_terms(models::hoap3_torso::model().with_gravity(Vector3<double>(1.5, -2.0, 9.0)), 6, 3.2);
+}
+
+// A NaN in q, q̇ or q̈ of body k must reach τ of k and of every ancestor of k, as on the scalar path.
+TEST(SimdRnea, NanReachesTheSameTorques) {
+  using Tree = models::hoap3_stance_right::Tree;
+  const auto model = models::hoap3_stance_right::model();
+  using VN = Eigen::Matrix<double, Tree::size, 1>;
+  for (int input = 0; input < 3; ++input) {
+    for (int k = 0; k < Tree::size; ++k) {
+      VN q = VN::Constant(0.3), qd = VN::Constant(-0.2), qdd = VN::Constant(0.5);
+      (input == 0 ? q : input == 1 ? qd : qdd)[k] = std::numeric_limits<double>::quiet_NaN();
+      Data<double, Tree> ds(model), dr(model);
+      detail::rnea_impl<7u, true>(model, ds, q, qd, qdd, NoExternalForces{}, ForceFrame::Body, ds.tau);
+      detail::rnea_impl<7u, false>(model, dr, q, qd, qdd, NoExternalForces{}, ForceFrame::Body, dr.tau);
+      for (int i = 0; i < Tree::size; ++i) {
+        EXPECT_EQ(std::isnan(ds.tau[i]), std::isnan(dr.tau[i])) << "input " << input << ", NaN at " << k << ", tau " << i;
+        if (model.is_ancestor_or_self(i, k)) {
+          EXPECT_TRUE(std::isnan(ds.tau[i]));
+        }
+      }
+    }
+  }
+}
+
+// The public entry points reach the AVX2 path and agree with the scalar one.
+TEST(SimdRnea, EntryPoints) {
+  using Tree = models::hoap3_stance_right::Tree;
+  const auto model = models::hoap3_stance_right::model();
+  using VN = Eigen::Matrix<double, Tree::size, 1>;
+  std::mt19937 rng(30);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  VN q, qd, qdd, tau;
+  for (int i = 0; i < Tree::size; ++i) q[i] = 1.5 * u(rng), qd[i] = u(rng), qdd[i] = u(rng), tau[i] = u(rng);
+  Data<double, Tree> ds(model), dr(model);
+  const double tol = tolerance<Tree>() * 100.0;  // τ of the HOAP-3 is below 100 N m at these inputs
+  auto scalar = [&](auto terms, const VN& a, const VN& b) {
+    detail::rnea_impl<decltype(terms)::value, false>(model, dr, q, a, b, NoExternalForces{}, ForceFrame::Body,
+                                                     dr.tau);
+    return VN(dr.tau);
+  };
+  Eigen::internal::set_is_malloc_allowed(false);
+  const VN t_full = rnea(model, ds, q, qd, qdd);
+  const VN t_bias = bias_forces(model, ds, q, qd);
+  const VN t_grav = gravity_torques(model, ds, q);
+  const VN t_novel = rnea<Dyn::QuasiStatic>(model, ds, q, qd, qdd);
+  const VN t_nograv = rnea<Dyn::NoGravity>(model, ds, q, qd, qdd);
+  Eigen::internal::set_is_malloc_allowed(true);
+  EXPECT_LE((t_full - scalar(std::integral_constant<unsigned, 7u>{}, qd, qdd)).cwiseAbs().maxCoeff(), tol);
+  EXPECT_LE((t_bias - scalar(std::integral_constant<unsigned, 3u>{}, qd, qdd)).cwiseAbs().maxCoeff(), tol);
+  EXPECT_LE((t_grav - scalar(std::integral_constant<unsigned, 1u>{}, qd, qdd)).cwiseAbs().maxCoeff(), tol);
+  EXPECT_LE((t_novel - scalar(std::integral_constant<unsigned, 5u>{}, qd, qdd)).cwiseAbs().maxCoeff(), tol);
+  EXPECT_LE((t_nograv - scalar(std::integral_constant<unsigned, 6u>{}, qd, qdd)).cwiseAbs().maxCoeff(), tol);
+
+  // Forward dynamics by CRBA takes the transforms of its AVX2 bias pass: H and τ − C as from the scalar pieces.
+  Eigen::internal::set_is_malloc_allowed(false);
+  const VN qdd_crba = forward_dynamics_crba(model, ds, q, qd, tau);
+  Eigen::internal::set_is_malloc_allowed(true);
+  crba(model, dr, q);
+  const VN rhs = tau - scalar(std::integral_constant<unsigned, 3u>{}, qd, qd);
+  EXPECT_LE((ds.H - dr.H).cwiseAbs().maxCoeff(), tolerance<Tree>() * dr.H.cwiseAbs().maxCoeff());
+  EXPECT_LE((ds.tmp - rhs).cwiseAbs().maxCoeff(), tol);
+  // q̈ against a dense solve of the scalar pieces: the difference in H and τ − C is amplified at most by κ(H).
+  const VN qdd_ref = dr.H.ldlt().solve(rhs);
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, Tree::size, Tree::size>> eig(dr.H);
+  const double kappa = eig.eigenvalues().maxCoeff() / eig.eigenvalues().minCoeff();
+  EXPECT_LE((qdd_crba - qdd_ref).norm(), 100.0 * tolerance<Tree>() * kappa * qdd_ref.norm()) << "kappa " << kappa;
+}
+
+}  // namespace
