@@ -122,6 +122,17 @@ void update_transform(const Model<S, T>& model, Data<S, T>& data, I index, const
   }
 }
 
+/// What `crba_impl` reads for configuration q: cos qᵢ and sin qᵢ, and on the scalar path the transforms ⁱX_λ in
+/// `data.X_up` (the AVX2 CRBA composes them itself from the sines and cosines and writes them out).
+template <bool Simd = true, class S, class T, class Q>
+void crba_inputs(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q) {
+  joint_sincos(model, data, q);
+#if SPATIAL_SIMD_AVX2
+  if constexpr (Simd && simd_enabled<S, T>()) return;
+#endif
+  for_each_body(model, [&](auto I) { update_transform<false>(model, data, I, q); });
+}
+
 /// Gravity-only RNEA, τ = G(q). With q̇ = q̈ = 0 every body's acceleration is the uniform field −g: aᵢ has no
 /// angular part, and the force transmitted across joint i is Iᶜᵢ aᵢ = [hᶜᵢ × aᵢ; mᶜᵢ aᵢ], which depends only on the
 /// subtree's mass mᶜᵢ and first moment hᶜᵢ. These are accumulated leaves to root (h_λ += Eᵀ hᵢ + mᵢ r) in place
@@ -173,7 +184,7 @@ void rnea_impl(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBa
   constexpr bool A = (Terms & kAcceleration) != 0;
   constexpr bool X = has_external_v<Ext>;
 #if SPATIAL_SIMD_AVX2
-  if constexpr (Simd && !X && rnea_simd_enabled<S, T>()) {
+  if constexpr (Simd && !X && simd_enabled<S, T>()) {
     (void)fext, (void)frame;
     simd::rnea<Terms>(model, data, q, qd, qdd, tau);
     return;
@@ -351,15 +362,21 @@ Vector3<S> center_of_mass(const Model<S, T>& model, Data<S, T>& data, const Eige
 }
 
 namespace detail {
-/// CRBA on transforms already in `data.X_up` (RBDA Table 6.2):
+/// CRBA on the inputs of `crba_inputs` (RBDA Table 6.2):
 ///   Iᶜᵢ = Iᵢ + Σ_children ʲX_iᵀ Iᶜⱼ ʲX_i;  Hᵢᵢ = Sᵢᵀ Iᶜᵢ Sᵢ;  H_ij = H_ji = Sⱼᵀ Fⱼ for every ancestor j of i, with
 ///   Fⱼ = Iᶜᵢ Sᵢ carried to body j by the force transforms. Rather than walking F up the ancestor chain (one force
 ///   transform per ancestor), F and every Sⱼ are expressed once in base coordinates (F⁰ = ⁱX_0ᵀ F,
 ///   S⁰ⱼ = ʲX_0⁻¹ Sⱼ, kept in `data.S_base`, with ⁱX_0 in `data.X_base`), where H_ij = S⁰ⱼ · F⁰ is a 6-term dot
 ///   product (the scalar product is invariant under the change of coordinates). Entries where neither joint is an
 ///   ancestor of the other stay zero.
-template <class S, class T>
+template <bool Simd = true, class S, class T>
 void crba_impl(const Model<S, T>& model, Data<S, T>& data) {
+#if SPATIAL_SIMD_AVX2
+  if constexpr (Simd && simd_enabled<S, T>()) {
+    simd::crba(model, data);
+    return;
+  }
+#endif
   for_each_body(model, [&](auto I) {
     const auto k = static_cast<std::size_t>(int(I));
     const int p = model.parent(I);
@@ -395,8 +412,7 @@ void crba_impl(const Model<S, T>& model, Data<S, T>& data) {
 /// zeroed when `data` was built). Returns `data.H`.
 template <class S, class T, class Q>
 const typename Data<S, T>::MatrixN& crba(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q) {
-  detail::joint_sincos(model, data, q);
-  for_each_body(model, [&](auto I) { detail::update_transform<false>(model, data, I, q); });
+  detail::crba_inputs(model, data, q);
   detail::crba_impl(model, data);
   return data.H;
 }
@@ -462,11 +478,10 @@ void forward_dynamics_crba_impl(const Model<S, T>& model, Data<S, T>& data, cons
     data.tmp = tau - data.tmp;
   } else {
     (void)qd;
-    joint_sincos(model, data, q);
-    for_each_body(model, [&](auto I) { update_transform<false>(model, data, I, q); });
+    crba_inputs(model, data, q);
     data.tmp = tau;
   }
-  crba_impl(model, data);  // reuses the transforms computed by the bias-force pass
+  crba_impl(model, data);  // reuses the sines, cosines and transforms of the bias-force pass
   ltdl(model, data);
   data.qdd = data.tmp;
   ltdl_solve(model, data, data.qdd);
@@ -488,10 +503,17 @@ const typename Data<S, T>::VectorN& forward_dynamics_crba(const Model<S, T>& mod
 namespace detail {
 /// The articulated-body algorithm with a compile-time choice of terms: without `V` (q̇ = 0) vᵢ = cᵢ = 0, pass 1 is
 /// the transforms alone and pass 2 drops Iᵃ cᵢ; without `G`, a₀ = 0. `aba` below and `aba<Dyn>` (options.hpp).
-template <bool G, bool V, class S, class T, class Q, class QD, class Tau, class Ext>
+template <bool G, bool V, bool Simd = true, class S, class T, class Q, class QD, class Tau, class Ext>
 void aba_impl(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q,
               const Eigen::MatrixBase<QD>& qd, const Eigen::MatrixBase<Tau>& tau, const Ext& fext, ForceFrame frame) {
   constexpr bool X = has_external_v<Ext>;
+#if SPATIAL_SIMD_AVX2
+  if constexpr (Simd && !X && simd_enabled<S, T>()) {
+    (void)fext, (void)frame;
+    simd::aba<G, V>(model, data, q, qd, tau);
+    return;
+  }
+#endif
   const bool base_frame = X && frame == ForceFrame::Base;
   joint_sincos(model, data, q);
   for_each_body(model, [&](auto I) {

@@ -1,0 +1,85 @@
+#pragma once
+// Shared by the AVX2 kernel tests (tests/simd_*.cpp, built with -mavx2 -mfma): trees of revolute joints about
+// coordinate axes, the comparison bound, random compile-time models.
+#include <spatial/models/hoap3_double_pendulum.hpp>
+#include <spatial/models/hoap3_stance_left.hpp>
+#include <spatial/models/hoap3_stance_right.hpp>
+#include <spatial/models/hoap3_torso.hpp>
+#include <spatial/spatial.hpp>
+
+#include "support/random_model.hpp"
+#include "support/reference.hpp"
+#include "support/static_trees.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+#if !SPATIAL_SIMD_AVX2
+#error "the simd_*.cpp tests must be compiled with AVX2 and FMA (tests/CMakeLists.txt adds -mavx2 -mfma)"
+#endif
+
+namespace spatial::testing::simd {
+
+using namespace spatial;
+namespace static_trees = spatial::testing::static_trees;
+using J = JointType;
+
+// Revolute joints about coordinate axes only: two roots, branches, every axis.
+using Rev9 = Tree<Parents<-1, 0, 1, 0, 3, -1, 5, 2, 2>,
+                  Joints<J::RevoluteX, J::RevoluteY, J::RevoluteZ, J::RevoluteZ, J::RevoluteX, J::RevoluteY,
+                         J::RevoluteZ, J::RevoluteX, J::RevoluteY>>;
+constexpr JointType kAxes[3] = {J::RevoluteZ, J::RevoluteX, J::RevoluteY};
+template <std::size_t... I>
+auto make_chain(std::index_sequence<I...>) -> Tree<Parents<(static_cast<int>(I) - 1)...>, Joints<kAxes[I % 3]...>>;
+// A chain deeper than any branch of the reference models (every H entry of it is an ancestor pair).
+using RevChain24 = decltype(make_chain(std::make_index_sequence<24>{}));
+
+static_assert(detail::simd_enabled<double, Rev9>());
+static_assert(detail::simd_enabled<double, models::hoap3_stance_right::Tree>());
+static_assert(!detail::simd_enabled<float, Rev9>(), "float takes the scalar path");
+static_assert(!detail::simd_enabled<double, DynamicTree>(), "run-time trees take the scalar path");
+static_assert(!detail::simd_enabled<double, static_trees::Branched8>(), "other joint types: scalar path");
+
+template <class TreeT>
+int depth() {
+  int d = 0;
+  for (int i = 0; i < TreeT::size; ++i) {
+    int k = 0;
+    for (int j = i; j >= 0; j = TreeT::parent[static_cast<std::size_t>(j)]) ++k;
+    d = std::max(d, k);
+  }
+  return d;
+}
+
+/// Both paths evaluate the same expressions in a different order (and with fused multiply–adds), so every output
+/// may differ by a few roundings per level of the tree relative to the largest value it is built from: the bound
+/// is 16 (depth + 1) u times the largest magnitude of that output over all bodies.
+template <class TreeT>
+double tolerance() {
+  return 16.0 * (depth<TreeT>() + 1) * std::numeric_limits<double>::epsilon();
+}
+
+template <class TreeT>
+struct Compare {
+  double tol = tolerance<TreeT>();
+  Compare() = default;
+  explicit Compare(double t) : tol(t) {}
+  template <class A, class B>
+  void operator()(const char* what, int body, const Eigen::MatrixBase<A>& simd, const Eigen::MatrixBase<B>& scalar,
+                  double scale) const {
+    const double diff = (simd - scalar).cwiseAbs().maxCoeff();
+    EXPECT_LE(diff, tol * std::max(scale, 1.0)) << what << " of body " << body << "\nsimd:   " << simd.transpose()
+                                                << "\nscalar: " << scalar.transpose();
+  }
+};
+
+template <class TreeT>
+Model<double, TreeT> random_static(unsigned seed) {
+  return Model<double, TreeT>::from(spatial::testing::build_model(static_trees::bodies_for<TreeT>(seed)));
+}
+
+}  // namespace spatial::testing::simd
