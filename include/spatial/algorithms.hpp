@@ -124,35 +124,57 @@ void update_transform(const Model<S, T>& model, Data<S, T>& data, I index, const
 /// Gravity-only RNEA, τ = G(q). With q̇ = q̈ = 0 every body's acceleration is the uniform field −g: aᵢ has no
 /// angular part, and the force transmitted across joint i is Iᶜᵢ aᵢ = [hᶜᵢ × aᵢ; mᶜᵢ aᵢ], which depends only on the
 /// subtree's mass mᶜᵢ and first moment hᶜᵢ. These are accumulated leaves to root (h_λ += Eᵀ hᵢ + mᵢ r) in place
-/// of whole forces, and `data.f` is filled with the transmitted forces as by the full RNEA.
-template <class S, class T, class Q, class Out>
+/// of whole forces.
+///
+/// With `Keep` (`rnea<Dyn::Static>`, the bias pass of `forward_dynamics_crba<Dyn::Static>`) the call leaves what
+/// the full RNEA leaves: `data.X_up`, `data.a` and the transmitted forces in `data.f`. Without it (`gravity_torques`)
+/// ⁱX_λ = X_J X_T is never composed: with X_J = (E_J, r_J) and X_T = (E_T, r_T), the field is carried down as
+/// gᵢ = E_J (E_T g_λ) and the first moment up as E_Tᵀ (E_Jᵀ hᵢ + mᵢ r_J) + mᵢ r_T, where E_J and r_J cost a few
+/// multiplies for the axis-aligned joints (`Joint::rotate`, `Joint::moment_to_predecessor`); `data.a[i].v` and
+/// `data.f[i]` are then scratch (gᵢ; hᵢ and mᵢ).
+template <bool Keep, class S, class T, class Q, class Out>
 void gravity_impl(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q, Out& tau) {
-  const Motion<S> a0 = -model.gravity_motion();
+  const Vector3<S> g0 = -model.gravity();
   joint_sincos(model, data, q);
   for_each_body(model, [&](auto I) {
-    const auto k = static_cast<std::size_t>(int(I));
+    const int i = I;
+    const auto k = static_cast<std::size_t>(i);
     const int p = model.parent(I);
-    update_transform<false>(model, data, I, q);
-    const Transform<S>& Xup = data.X_up[k];
-    if (p >= 0) data.a[k] = Motion<S>(Vector3<S>::Zero(), mul(Xup.E, data.a[static_cast<std::size_t>(p)].v));
-    else data.a[k] = Xup.apply(a0);
-    // Until body k is reached leaves to root, data.f[k] holds [hᶜ; (mᶜ, 0, 0)].
+    const Vector3<S>& gp = p >= 0 ? data.a[static_cast<std::size_t>(p)].v : g0;
+    if constexpr (Keep) {
+      update_transform<false>(model, data, I, q);
+      data.a[k] = Motion<S>(Vector3<S>::Zero(), mul(data.X_up[k].E, gp));
+    } else {
+      data.a[k].v = model.joint(I).rotate(data.cos_q[i], data.sin_q[i], mul(model.tree_transform(i).E, gp));
+    }
+    // Until body k is reached leaves to root, data.f[k] holds [hᶜ; (mᶜ, ·, ·)].
     const Inertia<S>& In = model.inertia(I);
-    data.f[k] = Force<S>(In.h, Vector3<S>(In.m, S(0), S(0)));
+    data.f[k].n = In.h;
+    data.f[k].f[0] = In.m;
   });
   for_each_body_reverse(model, [&](auto I) {
     const int i = I;
     const auto k = static_cast<std::size_t>(i);
     const int p = model.parent(I);
+    const auto joint = model.joint(I);
     const Vector3<S> h = data.f[k].n;
     const S m = data.f[k].f[0];
-    const Vector3<S>& g = data.a[k].v;
-    data.f[k] = Force<S>(cross3(h, g), scale3(m, g));
-    tau[i] = model.joint(I).project(data.f[k]);
+    const Vector3<S> g = data.a[k].v;
+    const Force<S> f(cross3(h, g), scale3(m, g));
+    tau[i] = joint.project(f);
+    if constexpr (Keep) data.f[k] = f;
     if (p >= 0) {
-      const Transform<S>& Xup = data.X_up[k];
+      Vector3<S> up;  // Eᵀ h + m r: h about the parent's origin, in parent coordinates
+      if constexpr (Keep) {
+        const Transform<S>& Xup = data.X_up[k];
+        up = add3(mul_t(Xup.E, h), scale3(m, Xup.r));
+      } else {
+        const Transform<S>& XT = model.tree_transform(i);
+        up = add3(mul_t(XT.E, joint.moment_to_predecessor(S(q[i]), data.cos_q[i], data.sin_q[i], h, m)),
+                  scale3(m, XT.r));
+      }
       Force<S>& fp = data.f[static_cast<std::size_t>(p)];
-      fp.n = add3(fp.n, add3(mul_t(Xup.E, h), scale3(m, Xup.r)));
+      fp.n = add3(fp.n, up);
       fp.f[0] += m;
     }
   });
@@ -172,7 +194,7 @@ void rnea_impl(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBa
   constexpr bool X = has_external_v<Ext>;
   if constexpr (Terms == kGravity && !X) {
     (void)qd, (void)qdd, (void)frame;
-    gravity_impl(model, data, q, tau);
+    gravity_impl<true>(model, data, q, tau);
     return;
   }
   const bool base_frame = X && frame == ForceFrame::Base;
@@ -248,12 +270,13 @@ const typename Data<S, T>::VectorN& bias_forces(const Model<S, T>& model, Data<S
   return data.tau;
 }
 
-/// Gravity torques G(q) = RNEA(q, 0, 0): no velocity or acceleration term is computed. Returns `data.tau`.
+/// Gravity torques G(q) = RNEA(q, 0, 0): no velocity or acceleration term is computed, and no joint transform is
+/// composed, so unlike `rnea` (and `rnea<Dyn::Static>`, which gives the same torques) it leaves no other result in
+/// `data`: `data.X_up` is not updated, and `data.a` and `data.f` are used as scratch. Returns `data.tau`.
 template <class S, class T, class Q>
 const typename Data<S, T>::VectorN& gravity_torques(const Model<S, T>& model, Data<S, T>& data,
                                                     const Eigen::MatrixBase<Q>& q) {
-  using namespace detail;
-  rnea_impl<kGravity>(model, data, q, q, q, NoExternalForces{}, ForceFrame::Body, data.tau);
+  detail::gravity_impl<false>(model, data, q, data.tau);
   return data.tau;
 }
 
