@@ -9,8 +9,9 @@
 ///  - `apply_inertia(I)`: I S for a rigid-body or articulated inertia I (a column of I for axis-aligned joints);
 ///  - `subspace_inverse(X)`: X⁻¹ S, the motion subspace in the coordinates of the frame X maps from (CRBA uses it
 ///    with X = ⁱX_0 to express every joint axis in base coordinates);
-///  - `rotate(c, s, v)` and `moment_to_predecessor(q, c, s, h, m)`: with X_J = (E_J, r_J), E_J v and E_Jᵀ h + m r_J,
-///    the two halves of ⁱX_λ that gravity torques need, applied without composing X_J X_T (see `gravity_impl`).
+///  - `rotate(c, s, v)` and `shift_moment(q, h, m)`: with X_J = (E_J, r_J), E_J v (v a 3-vector or a 3×3 matrix)
+///    and h + m E_J r_J (gravity torques compose only the rotation E_J E_T of X_J X_T and move first moments with
+///    these; see `gravity_impl`).
 /// The axis-aligned joints are separate types so that each costs only what its axis needs: a revolute joint
 /// about z is one sine, one cosine and a few multiplies, and its S q̇ has one non-zero entry.
 
@@ -120,15 +121,19 @@ struct RevoluteAxisAligned {
     out[j] = c * v[j] - s * v[i];
     return out;
   }
-  /// E_Jᵀ h + m r_J with r_J = 0.
-  static SPATIAL_INLINE Vector3<S> moment_to_predecessor(S /*q*/, S c, S s, const Vector3<S>& h, S /*m*/) {
+  /// E_J M, column by column.
+  static SPATIAL_INLINE Matrix3<S> rotate(S c, S s, const Matrix3<S>& M) {
     constexpr int i = (K + 1) % 3, j = (K + 2) % 3;
-    Vector3<S> out;
-    out[K] = h[K];
-    out[i] = c * h[i] - s * h[j];
-    out[j] = s * h[i] + c * h[j];
+    Matrix3<S> out;
+    SPATIAL_UNROLL for (int col = 0; col < 3; ++col) {
+      out(K, col) = M(K, col);
+      out(i, col) = c * M(i, col) + s * M(j, col);
+      out(j, col) = c * M(j, col) - s * M(i, col);
+    }
     return out;
   }
+  /// h + m E_J r_J = h (r_J = 0).
+  static SPATIAL_INLINE Vector3<S> shift_moment(S /*q*/, const Vector3<S>& h, S /*m*/) { return h; }
   /// a × e_K s
   static SPATIAL_INLINE Vector3<S> cross_axis(const Vector3<S>& a, S s) {
     constexpr int i = (K + 1) % 3, j = (K + 2) % 3;
@@ -180,10 +185,11 @@ struct PrismaticAxisAligned {
   static SPATIAL_INLINE Motion<S> subspace_inverse(const Transform<S>& X) {
     return Motion<S>(Vector3<S>::Zero(), Vector3<S>(X.E(K, 0), X.E(K, 1), X.E(K, 2)));
   }
-  /// E_J v = v (no rotation).
+  /// E_J v = v, E_J M = M (no rotation).
   static SPATIAL_INLINE Vector3<S> rotate(S /*c*/, S /*s*/, const Vector3<S>& v) { return v; }
-  /// E_Jᵀ h + m r_J = h + m q e_K.
-  static SPATIAL_INLINE Vector3<S> moment_to_predecessor(S q, S /*c*/, S /*s*/, const Vector3<S>& h, S m) {
+  static SPATIAL_INLINE Matrix3<S> rotate(S /*c*/, S /*s*/, const Matrix3<S>& M) { return M; }
+  /// h + m E_J r_J = h + m q e_K.
+  static SPATIAL_INLINE Vector3<S> shift_moment(S q, const Vector3<S>& h, S m) {
     Vector3<S> out = h;
     out[K] += m * q;
     return out;
@@ -237,9 +243,10 @@ struct Joint<S, JointType::RevoluteAxis> {
   SPATIAL_INLINE Vector3<S> rotate(S c, S s, const Vector3<S>& v) const {
     return detail::mul(rot_axis_matrix_cs(axis, c, s), v);
   }
-  SPATIAL_INLINE Vector3<S> moment_to_predecessor(S /*q*/, S c, S s, const Vector3<S>& h, S /*m*/) const {
-    return detail::mul_t(rot_axis_matrix_cs(axis, c, s), h);
+  SPATIAL_INLINE Matrix3<S> rotate(S c, S s, const Matrix3<S>& M) const {
+    return detail::mul(rot_axis_matrix_cs(axis, c, s), M);
   }
+  SPATIAL_INLINE Vector3<S> shift_moment(S /*q*/, const Vector3<S>& h, S /*m*/) const { return h; }
   SPATIAL_INLINE void add_motion(Motion<S>& a, S qdd) const { a.w += axis * qdd; }
   SPATIAL_INLINE Motion<S> cross_motion(const Motion<S>& v, S qd) const {
     const Vector3<S> e = axis * qd;
@@ -264,7 +271,8 @@ struct Joint<S, JointType::PrismaticAxis> {
   }
   SPATIAL_INLINE Motion<S> subspace_inverse(const Transform<S>& X) const { return X.apply_inverse(motion(S(1))); }
   SPATIAL_INLINE Vector3<S> rotate(S /*c*/, S /*s*/, const Vector3<S>& v) const { return v; }
-  SPATIAL_INLINE Vector3<S> moment_to_predecessor(S q, S /*c*/, S /*s*/, const Vector3<S>& h, S m) const {
+  SPATIAL_INLINE Matrix3<S> rotate(S /*c*/, S /*s*/, const Matrix3<S>& M) const { return M; }
+  SPATIAL_INLINE Vector3<S> shift_moment(S q, const Vector3<S>& h, S m) const {
     return detail::add3(h, detail::scale3(m * q, axis));
   }
   SPATIAL_INLINE void add_motion(Motion<S>& a, S qdd) const { a.v += axis * qdd; }
@@ -306,8 +314,11 @@ struct RuntimeJoint {
   SPATIAL_INLINE Vector3<S> rotate(S c, S s, const Vector3<S>& v) const {
     return visit([&](const auto& j) { return j.rotate(c, s, v); });
   }
-  SPATIAL_INLINE Vector3<S> moment_to_predecessor(S q, S c, S s, const Vector3<S>& h, S m) const {
-    return visit([&](const auto& j) { return j.moment_to_predecessor(q, c, s, h, m); });
+  SPATIAL_INLINE Matrix3<S> rotate(S c, S s, const Matrix3<S>& M) const {
+    return visit([&](const auto& j) { return j.rotate(c, s, M); });
+  }
+  SPATIAL_INLINE Vector3<S> shift_moment(S q, const Vector3<S>& h, S m) const {
+    return visit([&](const auto& j) { return j.shift_moment(q, h, m); });
   }
   template <class In>
   SPATIAL_INLINE Force<S> apply_inertia(const In& I) const {
