@@ -60,6 +60,18 @@ void check_all_options(const Model<S, T>& model, const V& q, const V& qd, const 
   EXPECT_EQ(V(rnea<Dyn::Full>(model, d, q, qd, qdd)), ref) << name << ": Full is the call without options";
   ref = rnea(model, dr, q, zero, zero);
   expect_close(rnea<Dyn::Static>(model, d, q, nan, nan), ref, name + ": rnea Static = rnea(q, 0, 0)");
+  // rnea<Dyn::Static> also leaves the per-body results of the full RNEA (gravity_torques does not promise them):
+  // the same transforms, and accelerations and transmitted forces within the bound above.
+  const double tol_body = 16.0 * double(n) * kEps;
+  for (int i = 0; i < n; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    const std::string body = name + ": rnea Static leaves the full RNEA's data, body " + std::to_string(i);
+    EXPECT_EQ(d.X_up[k].matrix(), dr.X_up[k].matrix()) << body << " X_up";
+    const Vector6<S> a = d.a[k].vector(), a_ref = dr.a[k].vector();
+    const Vector6<S> f = d.f[k].vector(), f_ref = dr.f[k].vector();
+    EXPECT_LE((a - a_ref).cwiseAbs().maxCoeff(), tol_body * std::max(1.0, a_ref.cwiseAbs().maxCoeff())) << body << " a";
+    EXPECT_LE((f - f_ref).cwiseAbs().maxCoeff(), tol_body * std::max(1.0, f_ref.cwiseAbs().maxCoeff())) << body << " f";
+  }
   expect_close(gravity_torques(model, dr, q), ref, name + ": rnea Static = gravity_torques");
   ref = rnea(model, dr, q, zero, qdd);
   expect_close(rnea<Dyn::QuasiStatic>(model, d, q, nan, qdd), ref, name + ": rnea QuasiStatic = rnea(q, 0, qdd)");

@@ -17,6 +17,7 @@
 #include "spatial/simd.hpp"
 #include "spatial/sincos.hpp"
 
+#include <array>
 #include <type_traits>
 #include <utility>
 
@@ -136,38 +137,82 @@ void crba_inputs(const Model<S, T>& model, Data<S, T>& data, const Eigen::Matrix
 /// Gravity-only RNEA, τ = G(q). With q̇ = q̈ = 0 every body's acceleration is the uniform field −g: aᵢ has no
 /// angular part, and the force transmitted across joint i is Iᶜᵢ aᵢ = [hᶜᵢ × aᵢ; mᶜᵢ aᵢ], which depends only on the
 /// subtree's mass mᶜᵢ and first moment hᶜᵢ. These are accumulated leaves to root (h_λ += Eᵀ hᵢ + mᵢ r) in place
-/// of whole forces, and `data.f` is filled with the transmitted forces as by the full RNEA.
-template <class S, class T, class Q, class Out>
-void gravity_impl(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q, Out& tau) {
-  const Motion<S> a0 = -model.gravity_motion();
+/// of whole forces.
+///
+/// With `Keep` (`rnea<Dyn::Static>`, the bias pass of `forward_dynamics_crba<Dyn::Static>`) the call leaves what
+/// the full RNEA leaves: `data.X_up`, `data.a` and the transmitted forces in `data.f`. Without it (`gravity_torques`)
+/// only the rotation E = E_J E_T of ⁱX_λ = X_J X_T is composed (`Joint::rotate`), and the first
+/// moment moves up as Eᵀ (hᵢ + mᵢ E_J r_J) + mᵢ r_T (`Joint::shift_moment`; r_J = 0 for revolute joints), with
+/// X_J = (E_J, r_J) and X_T = (E_T, r_T). E, gᵢ, hᵢ and mᵢ are scratch: on the stack for compile-time trees (where
+/// the compiler knows they alias nothing), in `data.X_up[i].E`, `data.a[i].v`, `data.f[i].n` and `data.f[i].f[0]`
+/// for run-time trees; `ek(k)`, `gk(k)`, `hk(k)`, `mk(k)` return references to them.
+template <bool Keep, class S, class T, class Q, class Out, class EK, class GK, class HK, class MK>
+SPATIAL_INLINE void gravity_passes(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q,
+                                   Out& tau, EK&& ek, GK&& gk, HK&& hk, MK&& mk) {
+  const Vector3<S> g0 = -model.gravity();
   joint_sincos(model, data, q);
   for_each_body(model, [&](auto I) {
-    const auto k = static_cast<std::size_t>(int(I));
+    const int i = I;
+    const auto k = static_cast<std::size_t>(i);
     const int p = model.parent(I);
-    update_transform<false>(model, data, I, q);
-    const Transform<S>& Xup = data.X_up[k];
-    if (p >= 0) data.a[k] = Motion<S>(Vector3<S>::Zero(), mul(Xup.E, data.a[static_cast<std::size_t>(p)].v));
-    else data.a[k] = Xup.apply(a0);
-    // Until body k is reached leaves to root, data.f[k] holds [hᶜ; (mᶜ, 0, 0)].
+    const Vector3<S>& gp = p >= 0 ? gk(static_cast<std::size_t>(p)) : g0;
+    if constexpr (Keep) {
+      update_transform<false>(model, data, I, q);
+      data.a[k].w = Vector3<S>::Zero();
+      gk(k) = mul(data.X_up[k].E, gp);
+    } else {
+      Matrix3<S>& E = ek(k);
+      E = model.joint(I).rotate(data.cos_q[i], data.sin_q[i], model.tree_transform(i).E);
+      gk(k) = mul(E, gp);
+    }
     const Inertia<S>& In = model.inertia(I);
-    data.f[k] = Force<S>(In.h, Vector3<S>(In.m, S(0), S(0)));
+    hk(k) = In.h;
+    mk(k) = In.m;
   });
   for_each_body_reverse(model, [&](auto I) {
     const int i = I;
     const auto k = static_cast<std::size_t>(i);
     const int p = model.parent(I);
-    const Vector3<S> h = data.f[k].n;
-    const S m = data.f[k].f[0];
-    const Vector3<S>& g = data.a[k].v;
-    data.f[k] = Force<S>(cross3(h, g), scale3(m, g));
-    tau[i] = model.joint(I).project(data.f[k]);
+    const auto joint = model.joint(I);
+    const Vector3<S> h = hk(k);
+    const S m = mk(k);
+    const Vector3<S> g = gk(k);
+    const Force<S> f(cross3(h, g), scale3(m, g));
+    tau[i] = joint.project(f);
+    if constexpr (Keep) data.f[k] = f;
     if (p >= 0) {
-      const Transform<S>& Xup = data.X_up[k];
-      Force<S>& fp = data.f[static_cast<std::size_t>(p)];
-      fp.n = add3(fp.n, add3(mul_t(Xup.E, h), scale3(m, Xup.r)));
-      fp.f[0] += m;
+      Vector3<S> up;  // Eᵀ h + m r: h about the parent's origin, in parent coordinates
+      if constexpr (Keep) {
+        const Transform<S>& Xup = data.X_up[k];
+        up = add3(mul_t(Xup.E, h), scale3(m, Xup.r));
+      } else {
+        up = add3(mul_t(ek(k), joint.shift_moment(S(q[i]), h, m)), scale3(m, model.tree_transform(i).r));
+      }
+      const auto pk = static_cast<std::size_t>(p);
+      hk(pk) = add3(hk(pk), up);
+      mk(pk) += m;
     }
   });
+}
+
+template <bool Keep, class S, class T, class Q, class Out>
+void gravity_impl(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q, Out& tau) {
+  using Index = std::size_t;
+  if constexpr (!Keep && Model<S, T>::is_static) {
+    constexpr auto nb = static_cast<Index>(Model<S, T>::NB);
+    std::array<Matrix3<S>, nb> E;
+    std::array<Vector3<S>, nb> g, h;
+    std::array<S, nb> m;
+    gravity_passes<Keep>(
+        model, data, q, tau, [&](Index k) -> Matrix3<S>& { return E[k]; },
+        [&](Index k) -> Vector3<S>& { return g[k]; }, [&](Index k) -> Vector3<S>& { return h[k]; },
+        [&](Index k) -> S& { return m[k]; });
+  } else {
+    gravity_passes<Keep>(
+        model, data, q, tau, [&](Index k) -> Matrix3<S>& { return data.X_up[k].E; },
+        [&](Index k) -> Vector3<S>& { return data.a[k].v; }, [&](Index k) -> Vector3<S>& { return data.f[k].n; },
+        [&](Index k) -> S& { return data.f[k].f[0]; });
+  }
 }
 
 /// Recursive Newton–Euler inverse dynamics with a compile-time choice of terms (RBDA Table 5.1):
@@ -192,7 +237,7 @@ void rnea_impl(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBa
 #endif
   if constexpr (Terms == kGravity && !X) {
     (void)qd, (void)qdd, (void)frame;
-    gravity_impl(model, data, q, tau);
+    gravity_impl<true>(model, data, q, tau);
     return;
   }
   const bool base_frame = X && frame == ForceFrame::Base;
@@ -268,12 +313,13 @@ const typename Data<S, T>::VectorN& bias_forces(const Model<S, T>& model, Data<S
   return data.tau;
 }
 
-/// Gravity torques G(q) = RNEA(q, 0, 0): no velocity or acceleration term is computed. Returns `data.tau`.
+/// Gravity torques G(q) = RNEA(q, 0, 0): no velocity or acceleration term is computed, and of each joint transform
+/// only the rotation is composed, so unlike `rnea` (and `rnea<Dyn::Static>`, which gives the same torques) it leaves
+/// no other result in `data` (`data.X_up`, `data.a` and `data.f` may be used as scratch). Returns `data.tau`.
 template <class S, class T, class Q>
 const typename Data<S, T>::VectorN& gravity_torques(const Model<S, T>& model, Data<S, T>& data,
                                                     const Eigen::MatrixBase<Q>& q) {
-  using namespace detail;
-  rnea_impl<kGravity>(model, data, q, q, q, NoExternalForces{}, ForceFrame::Body, data.tau);
+  detail::gravity_impl<false>(model, data, q, data.tau);
   return data.tau;
 }
 

@@ -8,7 +8,10 @@
 ///  - `project(f)`: Sᵀ f, the component of a body-coordinate force along the joint's motion subspace;
 ///  - `apply_inertia(I)`: I S for a rigid-body or articulated inertia I (a column of I for axis-aligned joints);
 ///  - `subspace_inverse(X)`: X⁻¹ S, the motion subspace in the coordinates of the frame X maps from (CRBA uses it
-///    with X = ⁱX_0 to express every joint axis in base coordinates).
+///    with X = ⁱX_0 to express every joint axis in base coordinates);
+///  - `rotate(c, s, v)` and `shift_moment(q, h, m)`: with X_J = (E_J, r_J), E_J v (v a 3-vector or a 3×3 matrix)
+///    and h + m E_J r_J (gravity torques compose only the rotation E_J E_T of X_J X_T and move first moments with
+///    these; see `gravity_impl`).
 /// The axis-aligned joints are separate types so that each costs only what its axis needs: a revolute joint
 /// about z is one sine, one cosine and a few multiplies, and its S q̇ has one non-zero entry.
 
@@ -109,6 +112,28 @@ struct RevoluteAxisAligned {
     const Vector3<S> w(X.E(K, 0), X.E(K, 1), X.E(K, 2));
     return Motion<S>(w, detail::cross3(X.r, w));
   }
+  /// E_J v: rows K+1, K+2 (mod 3) of v rotated by the joint angle (as in `compose`).
+  static SPATIAL_INLINE Vector3<S> rotate(S c, S s, const Vector3<S>& v) {
+    constexpr int i = (K + 1) % 3, j = (K + 2) % 3;
+    Vector3<S> out;
+    out[K] = v[K];
+    out[i] = c * v[i] + s * v[j];
+    out[j] = c * v[j] - s * v[i];
+    return out;
+  }
+  /// E_J M, column by column.
+  static SPATIAL_INLINE Matrix3<S> rotate(S c, S s, const Matrix3<S>& M) {
+    constexpr int i = (K + 1) % 3, j = (K + 2) % 3;
+    Matrix3<S> out;
+    SPATIAL_UNROLL for (int col = 0; col < 3; ++col) {
+      out(K, col) = M(K, col);
+      out(i, col) = c * M(i, col) + s * M(j, col);
+      out(j, col) = c * M(j, col) - s * M(i, col);
+    }
+    return out;
+  }
+  /// h + m E_J r_J = h (r_J = 0).
+  static SPATIAL_INLINE Vector3<S> shift_moment(S /*q*/, const Vector3<S>& h, S /*m*/) { return h; }
   /// a × e_K s
   static SPATIAL_INLINE Vector3<S> cross_axis(const Vector3<S>& a, S s) {
     constexpr int i = (K + 1) % 3, j = (K + 2) % 3;
@@ -160,6 +185,15 @@ struct PrismaticAxisAligned {
   static SPATIAL_INLINE Motion<S> subspace_inverse(const Transform<S>& X) {
     return Motion<S>(Vector3<S>::Zero(), Vector3<S>(X.E(K, 0), X.E(K, 1), X.E(K, 2)));
   }
+  /// E_J v = v, E_J M = M (no rotation).
+  static SPATIAL_INLINE Vector3<S> rotate(S /*c*/, S /*s*/, const Vector3<S>& v) { return v; }
+  static SPATIAL_INLINE Matrix3<S> rotate(S /*c*/, S /*s*/, const Matrix3<S>& M) { return M; }
+  /// h + m E_J r_J = h + m q e_K.
+  static SPATIAL_INLINE Vector3<S> shift_moment(S q, const Vector3<S>& h, S m) {
+    Vector3<S> out = h;
+    out[K] += m * q;
+    return out;
+  }
   /// X_J(q) X_T = xlt(q e_K) X_T: r = r_T + q E_Tᵀ e_K (row K of E_T); E unchanged.
   static SPATIAL_INLINE Transform<S> compose(S q, S /*c*/, S /*s*/, const Transform<S>& XT) {
     Transform<S> X = XT;
@@ -206,6 +240,13 @@ struct Joint<S, JointType::RevoluteAxis> {
     return Transform<S>(rot_axis_matrix_cs(axis, c, s), Vector3<S>::Zero()) * XT;
   }
   SPATIAL_INLINE Motion<S> subspace_inverse(const Transform<S>& X) const { return X.apply_inverse(motion(S(1))); }
+  SPATIAL_INLINE Vector3<S> rotate(S c, S s, const Vector3<S>& v) const {
+    return detail::mul(rot_axis_matrix_cs(axis, c, s), v);
+  }
+  SPATIAL_INLINE Matrix3<S> rotate(S c, S s, const Matrix3<S>& M) const {
+    return detail::mul(rot_axis_matrix_cs(axis, c, s), M);
+  }
+  SPATIAL_INLINE Vector3<S> shift_moment(S /*q*/, const Vector3<S>& h, S /*m*/) const { return h; }
   SPATIAL_INLINE void add_motion(Motion<S>& a, S qdd) const { a.w += axis * qdd; }
   SPATIAL_INLINE Motion<S> cross_motion(const Motion<S>& v, S qd) const {
     const Vector3<S> e = axis * qd;
@@ -229,6 +270,11 @@ struct Joint<S, JointType::PrismaticAxis> {
     return xlt<S>(axis * q) * XT;
   }
   SPATIAL_INLINE Motion<S> subspace_inverse(const Transform<S>& X) const { return X.apply_inverse(motion(S(1))); }
+  SPATIAL_INLINE Vector3<S> rotate(S /*c*/, S /*s*/, const Vector3<S>& v) const { return v; }
+  SPATIAL_INLINE Matrix3<S> rotate(S /*c*/, S /*s*/, const Matrix3<S>& M) const { return M; }
+  SPATIAL_INLINE Vector3<S> shift_moment(S q, const Vector3<S>& h, S m) const {
+    return detail::add3(h, detail::scale3(m * q, axis));
+  }
   SPATIAL_INLINE void add_motion(Motion<S>& a, S qdd) const { a.v += axis * qdd; }
   SPATIAL_INLINE Motion<S> cross_motion(const Motion<S>& v, S qd) const {
     return Motion<S>(Vector3<S>::Zero(), v.w.cross(axis * qd));
@@ -265,6 +311,15 @@ struct RuntimeJoint {
     return visit([&](const auto& j) { return j.subspace_inverse(X); });
   }
   SPATIAL_INLINE S project(const Force<S>& f) const { return visit([&](const auto& j) { return j.project(f); }); }
+  SPATIAL_INLINE Vector3<S> rotate(S c, S s, const Vector3<S>& v) const {
+    return visit([&](const auto& j) { return j.rotate(c, s, v); });
+  }
+  SPATIAL_INLINE Matrix3<S> rotate(S c, S s, const Matrix3<S>& M) const {
+    return visit([&](const auto& j) { return j.rotate(c, s, M); });
+  }
+  SPATIAL_INLINE Vector3<S> shift_moment(S q, const Vector3<S>& h, S m) const {
+    return visit([&](const auto& j) { return j.shift_moment(q, h, m); });
+  }
   template <class In>
   SPATIAL_INLINE Force<S> apply_inertia(const In& I) const {
     return visit([&](const auto& j) { return j.apply_inertia(I); });
