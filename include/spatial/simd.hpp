@@ -184,8 +184,8 @@ SPATIAL_INLINE void store_transform(Transform<double>& X, V c0, V c1, V c2, V r)
 
 /// Keeps a per-body workspace in memory. Without this clang promotes every element of the (small, constant-indexed)
 /// array to a register value for the whole call and then spills: in ABA on stance21, ~2 800 spill and reload
-/// instructions and 10 % more time; with it, ~100. (An empty asm statement that may read the array.)
-SPATIAL_INLINE void keep_in_memory(const void* p) { __asm__ __volatile__("" : : "r"(p) : "memory"); }
+/// instructions and 10 % more time; with it, ~100. (An empty asm statement that may read and write the array.)
+SPATIAL_INLINE void keep_in_memory(void* p) { __asm__ __volatile__("" : : "r"(p) : "memory"); }
 
 template <class F, int... I>
 SPATIAL_INLINE void for_each_index(F& f, std::integer_sequence<int, I...>) {
