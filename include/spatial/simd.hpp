@@ -182,6 +182,24 @@ SPATIAL_INLINE void store_transform(Transform<double>& X, V c0, V c1, V c2, V r)
   store3(x + 9, r);
 }
 
+/// ⁱX_λ of body i (compose<K>) into `data.X_up[i]`, and E by columns and by rows.
+template <int K, class M, class D>
+SPATIAL_INLINE void joint_transform(const M& model, D& data, int i, V col[3], V row[3], V& r) {
+  compose<K>(model.tree_transform(i), data.cos_q[i], data.sin_q[i], col[0], col[1], col[2], r);
+  store_transform(data.X_up[static_cast<std::size_t>(i)], col[0], col[1], col[2], r);
+  transpose(col[0], col[1], col[2], row[0], row[1], row[2]);
+}
+/// X m = [E ω; E (v − r × ω)], E by columns.
+SPATIAL_INLINE void apply_motion(const V col[3], V r, V mw, V mv, V& ow, V& ov) {
+  ow = comb(col[0], col[1], col[2], mw);
+  ov = comb(col[0], col[1], col[2], _mm256_sub_pd(mv, cross(r, mw)));
+}
+/// Xᵀ f = [Eᵀ n + r × Eᵀ f; Eᵀ f], E by rows.
+SPATIAL_INLINE void apply_force_inverse(const V row[3], V r, V fn, V ff, V& on, V& of) {
+  of = comb(row[0], row[1], row[2], ff);
+  on = _mm256_add_pd(comb(row[0], row[1], row[2], fn), cross(r, of));
+}
+
 /// Keeps a per-body workspace in memory. Without this clang promotes every element of the (small, constant-indexed)
 /// array to a register value for the whole call and then spills: in ABA on stance21, ~2 800 spill and reload
 /// instructions and 10 % more time; with it, ~100. (An empty asm statement that may read and write the array.)
@@ -221,27 +239,20 @@ void rnea(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>
     constexpr int i = decltype(I)::value;
     constexpr int p = T::parent[i];
     constexpr int K = revolute_axis(T::joint[i]);
-    V c0, c1, c2, r;
-    compose<K>(model.tree_transform(i), data.cos_q[i], data.sin_q[i], c0, c1, c2, r);
-    transpose(c0, c1, c2, w.row[i][0], w.row[i][1], w.row[i][2]);
-    store_transform(data.X_up[static_cast<std::size_t>(i)], c0, c1, c2, r);
+    V col[3], r;
+    joint_transform<K>(model, data, i, col, w.row[i], r);
 
-    // ⁱX_λ m = [E ω; E (v − r × ω)]
-    auto apply = [&](V mw, V mv, V& ow, V& ov) {
-      ow = comb(c0, c1, c2, mw);
-      ov = comb(c0, c1, c2, _mm256_sub_pd(mv, cross(r, mw)));
-    };
     V vw = zero(), vv = zero(), aw = zero(), av = zero();
     if constexpr (Vel) {
-      if constexpr (p >= 0) apply(w.vw[p], w.vv[p], vw, vv);
+      if constexpr (p >= 0) apply_motion(col, r, w.vw[p], w.vv[p], vw, vv);
       vw = _mm256_add_pd(vw, axis<K>(double(qd[i])));
       w.vw[i] = vw;
       w.vv[i] = vv;
     }
     if constexpr (p >= 0) {
-      apply(w.aw[p], w.av[p], aw, av);
+      apply_motion(col, r, w.aw[p], w.av[p], aw, av);
     } else if constexpr (G) {
-      av = comb(c0, c1, c2, g0);
+      av = comb(col[0], col[1], col[2], g0);
     }
     if constexpr (A) aw = _mm256_add_pd(aw, axis<K>(double(qdd[i])));
     if constexpr (Vel) {
@@ -293,10 +304,8 @@ void rnea(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>
     store3(data.f[k].f.data(), ff);
     tau[i] = get<K>(fn);
     if constexpr (p >= 0) {
-      // ⁱX_λᵀ f = [Eᵀ n + r × Eᵀ f; Eᵀ f]
-      const V r = load3(model.tree_transform(i).r.data());
-      const V lin = comb(w.row[i][0], w.row[i][1], w.row[i][2], ff);
-      const V ang = _mm256_add_pd(comb(w.row[i][0], w.row[i][1], w.row[i][2], fn), cross(r, lin));
+      V ang, lin;
+      apply_force_inverse(w.row[i], load3(model.tree_transform(i).r.data()), fn, ff, ang, lin);
       w.fn[p] = _mm256_add_pd(w.fn[p], ang);
       w.ff[p] = _mm256_add_pd(w.ff[p], lin);
     }
@@ -339,9 +348,7 @@ void crba(const Model<S, T>& model, Data<S, T>& data) {
     constexpr int K = revolute_axis(T::joint[i]);
     const auto k = static_cast<std::size_t>(i);
     Body& B = b[i];
-    compose<K>(model.tree_transform(i), data.cos_q[i], data.sin_q[i], B.ucol[0], B.ucol[1], B.ucol[2], B.ur);
-    store_transform(data.X_up[k], B.ucol[0], B.ucol[1], B.ucol[2], B.ur);
-    transpose(B.ucol[0], B.ucol[1], B.ucol[2], B.urow[0], B.urow[1], B.urow[2]);
+    joint_transform<K>(model, data, i, B.ucol, B.urow, B.ur);
     // ⁱX_0 = ⁱX_λ ᵏX_0: E = E_up E_λ (column by column), r = r_λ + E_λᵀ r_up.
     if constexpr (p >= 0) {
       const Body& P = b[p];
@@ -410,8 +417,8 @@ void crba(const Model<S, T>& model, Data<S, T>& data) {
     data.H(i, i) = get<K>(fn);
     if constexpr (T::parent[i] >= 0) {
       // F⁰ = ⁱX_0ᵀ F = [Eᵀ n + r × Eᵀ f; Eᵀ f]; H_ij = S⁰ⱼ · F⁰ for every ancestor j.
-      const V f0 = comb(B.row[0], B.row[1], B.row[2], ff);
-      const V n0 = _mm256_add_pd(comb(B.row[0], B.row[1], B.row[2], fn), cross(B.r, f0));
+      V n0, f0;
+      apply_force_inverse(B.row, B.r, fn, ff, n0, f0);
       auto entry = [&](auto J) SPATIAL_LAMBDA_INLINE {
         constexpr int j = decltype(J)::value;
         const double hij = hsum(_mm256_fmadd_pd(b[j].sw, n0, _mm256_mul_pd(b[j].sv, f0)));
@@ -461,9 +468,7 @@ void aba(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>&
     constexpr int K = revolute_axis(T::joint[i]);
     const auto k = static_cast<std::size_t>(i);
     Body& B = b[i];
-    compose<K>(model.tree_transform(i), data.cos_q[i], data.sin_q[i], B.col[0], B.col[1], B.col[2], B.r);
-    store_transform(data.X_up[k], B.col[0], B.col[1], B.col[2], B.r);
-    transpose(B.col[0], B.col[1], B.col[2], B.row[0], B.row[1], B.row[2]);
+    joint_transform<K>(model, data, i, B.col, B.row, B.r);
     const Inertia<double>& In = model.inertia(i);
     const V h = load3z(In.h.data());
     B.A[0] = load3z(In.I.data());
@@ -481,8 +486,7 @@ void aba(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>&
       V vw = zero(), vv = zero();
       if constexpr (p >= 0) {
         const Body& P = b[p];
-        vw = comb(B.col[0], B.col[1], B.col[2], P.vw);
-        vv = comb(B.col[0], B.col[1], B.col[2], _mm256_sub_pd(P.vv, cross(B.r, P.vw)));
+        apply_motion(B.col, B.r, P.vw, P.vv, vw, vv);
       }
       const double qdi = double(qd[i]);
       vw = _mm256_add_pd(vw, axis<K>(qdi));
@@ -592,8 +596,8 @@ void aba(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>&
       P.A[1] = _mm256_add_pd(P.A[1], _mm256_sub_pd(cross(B.r, bt1), _mm256_fmsub_pd(r0, rbp[2], _mm256_mul_pd(r2, rbp[0]))));
       P.A[2] = _mm256_add_pd(P.A[2], _mm256_sub_pd(cross(B.r, bt2), _mm256_fmsub_pd(r1, rbp[0], _mm256_mul_pd(r0, rbp[1]))));
       // pᴬ_λ += ⁱX_λᵀ pᵃ = [Eᵀ n + r × Eᵀ f; Eᵀ f]
-      const V lin = comb(B.row[0], B.row[1], B.row[2], paf);
-      const V ang = _mm256_add_pd(comb(B.row[0], B.row[1], B.row[2], pan), cross(B.r, lin));
+      V ang, lin;
+      apply_force_inverse(B.row, B.r, pan, paf, ang, lin);
       P.pn = _mm256_add_pd(P.pn, ang);
       P.pf = _mm256_add_pd(P.pf, lin);
     }
@@ -609,8 +613,7 @@ void aba(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>&
     V aw = zero(), av = zero();
     if constexpr (p >= 0) {
       const Body& P = b[p];
-      aw = comb(B.col[0], B.col[1], B.col[2], P.aw);
-      av = comb(B.col[0], B.col[1], B.col[2], _mm256_sub_pd(P.av, cross(B.r, P.aw)));
+      apply_motion(B.col, B.r, P.aw, P.av, aw, av);
     } else if constexpr (G) {
       av = comb(B.col[0], B.col[1], B.col[2], g0);
     }
