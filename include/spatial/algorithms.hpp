@@ -95,6 +95,25 @@ SPATIAL_INLINE void walk_up(const Model<S, T>& model, I i, F&& f) {
 struct NoExternalForces {};
 
 namespace detail {
+/// The root of a fixed-base tree: the base does not move, and the recursions start from v = 0 and a = −a_g.
+struct FixedRoot {
+  static constexpr bool floating = false;
+};
+/// The root of a floating-base tree (floating.hpp): the bodies whose parent is −1 hang from a moving root body
+/// with velocity `v` and acceleration `a` (root coordinates; `a` includes the fictitious −a_g where gravity is on).
+/// RNEA adds the forces transmitted to the root into `*f`; ABA adds the articulated inertias and bias forces that
+/// the root's children pass to it into `*IA` and `*pA` (root coordinates).
+template <class S>
+struct MovingRoot {
+  static constexpr bool floating = true;
+  Motion<S> v, a;
+  Force<S>* f = nullptr;
+  ArticulatedInertia<S>* IA = nullptr;
+  Force<S>* pA = nullptr;
+};
+}  // namespace detail
+
+namespace detail {
 
 enum RneaTerms : unsigned {
   kGravity = 1u,
@@ -220,28 +239,35 @@ void gravity_impl(const Model<S, T>& model, Data<S, T>& data, const Eigen::Matri
 ///   fᵢ = Iᵢ aᵢ + vᵢ ×* Iᵢ vᵢ − fᵢˣ,  τᵢ = Sᵢᵀ fᵢ,  f_λ += ⁱX_λᵀ fᵢ.
 /// Terms switched off are not computed at all (no multiplications by zero). `Simd` = false forces the scalar code
 /// (tests compare the two paths; see simd.hpp for when the AVX2 path is taken).
-template <unsigned Terms, bool Simd = true, class S, class T, class Q, class QD, class QDD, class Ext, class Out>
+/// With a `MovingRoot` (floating base) the recursion starts from the root's velocity and acceleration instead of
+/// 0 and −a_g, and the forces transmitted into the root are added to `*root.f`.
+template <unsigned Terms, bool Simd = true, class S, class T, class Q, class QD, class QDD, class Ext, class Out,
+          class Root = FixedRoot>
 void rnea_impl(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q,
                const Eigen::MatrixBase<QD>& qd, const Eigen::MatrixBase<QDD>& qdd, const Ext& fext,
-               ForceFrame frame, Out& tau) {
+               ForceFrame frame, Out& tau, const Root& root = Root{}) {
   constexpr bool G = (Terms & kGravity) != 0;
   constexpr bool V = (Terms & kVelocity) != 0;
   constexpr bool A = (Terms & kAcceleration) != 0;
   constexpr bool X = has_external_v<Ext>;
+  constexpr bool R = Root::floating;
+  (void)root;
 #if SPATIAL_SIMD_AVX2
-  if constexpr (Simd && !X && simd_enabled<S, T>()) {
+  if constexpr (Simd && !X && !R && simd_enabled<S, T>()) {
     (void)fext, (void)frame;
     simd::rnea<Terms>(model, data, q, qd, qdd, tau);
     return;
   }
 #endif
-  if constexpr (Terms == kGravity && !X) {
+  if constexpr (Terms == kGravity && !X && !R) {
     (void)qd, (void)qdd, (void)frame;
     gravity_impl<true>(model, data, q, tau);
     return;
   }
   const bool base_frame = X && frame == ForceFrame::Base;
-  const Motion<S> a0 = -model.gravity_motion();
+  Motion<S> a0;
+  if constexpr (R) a0 = root.a;
+  else a0 = -model.gravity_motion();
   joint_sincos(model, data, q);
 
   for_each_body(model, [&](auto I) {
@@ -256,9 +282,10 @@ void rnea_impl(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBa
 
     if constexpr (V) {
       const Motion<S> vJ = joint.motion(S(qd[i]));
-      data.v[k] = p >= 0 ? Xup.apply(data.v[pk]) + vJ : vJ;
+      if constexpr (R) data.v[k] = Xup.apply(p >= 0 ? data.v[pk] : root.v) + vJ;
+      else data.v[k] = p >= 0 ? Xup.apply(data.v[pk]) + vJ : vJ;
     }
-    if constexpr (G) {
+    if constexpr (G || R) {
       data.a[k] = Xup.apply(p >= 0 ? data.a[pk] : a0);
     } else {
       if (p >= 0) data.a[k] = Xup.apply(data.a[pk]);
@@ -282,6 +309,7 @@ void rnea_impl(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBa
     const int p = model.parent(I);
     tau[i] = model.joint(I).project(data.f[k]);
     if (p >= 0) data.f[static_cast<std::size_t>(p)] += data.X_up[k].apply_force_inverse(data.f[k]);
+    else if constexpr (R) *root.f += data.X_up[k].apply_force_inverse(data.f[k]);
   });
 }
 
@@ -556,12 +584,23 @@ const typename Data<S, T>::VectorN& forward_dynamics_crba(const Model<S, T>& mod
 namespace detail {
 /// The articulated-body algorithm with a compile-time choice of terms: without `V` (q̇ = 0) vᵢ = cᵢ = 0, pass 1 is
 /// the transforms alone and pass 2 drops Iᵃ cᵢ; without `G`, a₀ = 0. `aba` below and `aba<Dyn>` (options.hpp).
-template <bool G, bool V, bool Simd = true, class S, class T, class Q, class QD, class Tau, class Ext>
+///
+/// With a `MovingRoot` (floating base) the passes run in two halves around the root, which `floating.hpp` solves in
+/// between: `aba_impl` runs passes 1 and 2 (adding what the root's children pass to it into `*root.IA` and
+/// `*root.pA`, velocities from `root.v`), and `aba_pass3` runs pass 3 from the root's acceleration `root.a`.
+template <bool G, bool V, class S, class T, class Root>
+void aba_pass3(const Model<S, T>& model, Data<S, T>& data, const Root& root);
+
+template <bool G, bool V, bool Simd = true, class S, class T, class Q, class QD, class Tau, class Ext,
+          class Root = FixedRoot>
 void aba_impl(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q,
-              const Eigen::MatrixBase<QD>& qd, const Eigen::MatrixBase<Tau>& tau, const Ext& fext, ForceFrame frame) {
+              const Eigen::MatrixBase<QD>& qd, const Eigen::MatrixBase<Tau>& tau, const Ext& fext, ForceFrame frame,
+              const Root& root = Root{}) {
   constexpr bool X = has_external_v<Ext>;
+  constexpr bool R = Root::floating;
+  (void)root;
 #if SPATIAL_SIMD_AVX2
-  if constexpr (Simd && !X && simd_enabled<S, T>()) {
+  if constexpr (Simd && !X && !R && simd_enabled<S, T>()) {
     (void)fext, (void)frame;
     simd::aba<G, V>(model, data, q, qd, tau);
     return;
@@ -580,7 +619,8 @@ void aba_impl(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBas
       const int p = model.parent(I);
       const auto joint = model.joint(I);
       const Motion<S> vJ = joint.motion(S(qd[i]));
-      data.v[k] = p >= 0 ? data.X_up[k].apply(data.v[static_cast<std::size_t>(p)]) + vJ : vJ;
+      if constexpr (R) data.v[k] = data.X_up[k].apply(p >= 0 ? data.v[static_cast<std::size_t>(p)] : root.v) + vJ;
+      else data.v[k] = p >= 0 ? data.X_up[k].apply(data.v[static_cast<std::size_t>(p)]) + vJ : vJ;
       data.c[k] = joint.cross_motion(data.v[k], S(qd[i]));
       data.pA[k] = cross(data.v[k], In * data.v[k]);
       if constexpr (X) {
@@ -602,22 +642,37 @@ void aba_impl(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBas
     data.U[k] = joint.apply_inertia(data.IA[k]);
     data.Dinv[k] = S(1) / joint.project(data.U[k]);
     data.u[k] = S(tau[i]) - joint.project(data.pA[k]);
-    if (p >= 0) {
-      const auto pk = static_cast<std::size_t>(p);
+    if (p >= 0 || R) {
       constexpr int K = NullAngular<std::decay_t<decltype(joint)>>::value;
       ArticulatedInertia<S> Ia = data.IA[k];
       Ia.template subtract_outer<K>(data.U[k], data.Dinv[k]);
       Force<S> pa = data.pA[k] + data.U[k] * (data.u[k] * data.Dinv[k]);
       if constexpr (V) pa += Ia.template mul_null<K>(data.c[k]);
-      data.IA[pk] += Ia.template transformed_inverse<K>(data.X_up[k]);
-      data.pA[pk] += data.X_up[k].apply_force_inverse(pa);
+      if (p >= 0) {
+        const auto pk = static_cast<std::size_t>(p);
+        data.IA[pk] += Ia.template transformed_inverse<K>(data.X_up[k]);
+        data.pA[pk] += data.X_up[k].apply_force_inverse(pa);
+      } else if constexpr (R) {
+        *root.IA += Ia.template transformed_inverse<K>(data.X_up[k]);
+        *root.pA += data.X_up[k].apply_force_inverse(pa);
+      }
     }
   });
+  if constexpr (!R) aba_pass3<G, V>(model, data, root);
+}
+
+/// ABA's pass 3 (see `aba_impl`): a′ = ⁱX_λ a_λ + cᵢ from a₀ = −a_g (fixed base) or `root.a` (floating base),
+/// q̈ᵢ = (uᵢ − Uᵢᵀ a′) / Dᵢ, aᵢ = a′ + Sᵢ q̈ᵢ.
+template <bool G, bool V, class S, class T, class Root>
+void aba_pass3(const Model<S, T>& model, Data<S, T>& data, const Root& root) {
+  constexpr bool R = Root::floating;
+  (void)root;
   for_each_body(model, [&](auto I) {
     const int i = I;
     const auto k = static_cast<std::size_t>(i);
     const int p = model.parent(I);
     if (p >= 0) data.a[k] = data.X_up[k].apply(data.a[static_cast<std::size_t>(p)]);
+    else if constexpr (R) data.a[k] = data.X_up[k].apply(root.a);
     else if constexpr (G) data.a[k] = data.X_up[k].apply(-model.gravity_motion());
     else data.a[k] = Motion<S>::Zero();
     if constexpr (V) data.a[k] += data.c[k];
