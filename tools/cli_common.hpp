@@ -169,8 +169,15 @@ inline const std::vector<std::string>& model_option_names() {
   return names;
 }
 
+/// The model options that take no value: `--floating` (the base link becomes free-flying, LoadOptions::floating).
+inline const std::vector<std::string>& model_flag_names() {
+  static const std::vector<std::string> names = {"--floating"};
+  return names;
+}
+
 inline urdf_io::LoadOptions load_options(const Options& o) {
   urdf_io::LoadOptions opt;
+  opt.floating = o.has("--floating");
   if (auto v = o.get("--root")) opt.root = *v;
   if (auto v = o.get("--subtree")) opt.subtree = *v;
   if (auto v = o.get("--lock")) opt.locked = parse_lock_list(*v);

@@ -34,10 +34,11 @@ using cli::UsageError;
 
 const char* kUsage =
     "usage: spatial-gen --urdf FILE [--root LINK] [--subtree LINK] [--lock JOINT=ANGLE,...]\n"
-    "                   [--gravity gx,gy,gz] [--gravity-frame root|urdf]\n"
+    "                   [--gravity gx,gy,gz] [--gravity-frame root|urdf] [--floating]\n"
     "                   --name NAME [--namespace NS] [--title TEXT] [--out FILE|-]\n"
     "Writes a C++ header with the compile-time model of the URDF (spatial::Tree alias, NS::NAME::model<S>(),\n"
-    "names, limits, frames, masses). NS defaults to spatial::models; --out - (default) writes to stdout.\n";
+    "names, limits, frames, masses; with --floating also NS::NAME::floating_model<S>(), the free-flying base link\n"
+    "carrying that tree). NS defaults to spatial::models; --out - (default) writes to stdout.\n";
 
 /// A C++ double literal that reads back as exactly x (finite x).
 std::string lit(double x) {
@@ -320,8 +321,20 @@ std::string generate(const uio::LoadedModel& m, const std::string& name, const s
     << "    mass += Ii.m;\n"
     << "  }\n"
     << "  return first_moment / mass;\n"
-    << "}\n\n"
-    << "}  // namespace " << ns << "::" << name << "\n";
+    << "}\n\n";
+  if (m.floating)
+    o << "/// Velocity coordinates (the free-flyer's six, then the joints) and configuration coordinates (its seven).\n"
+      << "inline constexpr int nv = dof + 6;\n"
+      << "inline constexpr int nq = dof + 7;\n"
+      << "\n"
+      << "/// The floating-base model: the free-flyer `floating_base` at link '" << m.root << "' (inertia base_inertia()),\n"
+      << "/// carrying the tree of model(); gravity in world coordinates. q: [x y z qx qy qz qw, joints], v: [v w, q̇]\n"
+      << "/// (floating.hpp).\n"
+      << "template <class S = double>\n"
+      << "FloatingModel<S, Tree> floating_model() {\n"
+      << "  return FloatingModel<S, Tree>(model<S>(), base_inertia<S>(), " << quoted(m.root) << ");\n"
+      << "}\n\n";
+  o << "}  // namespace " << ns << "::" << name << "\n";
   return o.str();
 }
 
@@ -333,7 +346,7 @@ int run(int argc, char** argv) {
     }
   std::vector<std::string> with_value = cli::model_option_names();
   for (const char* s : {"--name", "--namespace", "--title", "--out"}) with_value.emplace_back(s);
-  const cli::Options opts(argc, argv, 1, with_value, {});
+  const cli::Options opts(argc, argv, 1, with_value, cli::model_flag_names());
   const std::string urdf = opts.required("--urdf");
   const std::string name = opts.required("--name");
   const std::string ns = opts.get("--namespace").value_or("spatial::models");
@@ -350,6 +363,7 @@ int run(int argc, char** argv) {
       const bool quote = v->find_first_of(" \t()'\"*?$;&|<>") != std::string::npos;
       command += std::string(" ") + o + " " + (quote ? "'" + *v + "'" : *v);
     }
+  if (opts.has("--floating")) command += " --floating";
   command += " --out " + name + ".hpp";
 
   const uio::LoadedModel loaded = uio::load_file(urdf, load);

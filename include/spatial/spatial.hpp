@@ -8,6 +8,7 @@
 #include "spatial/model.hpp"
 #include "spatial/sincos.hpp"
 #include "spatial/algorithms.hpp"
+#include "spatial/floating.hpp"
 #include "spatial/checks.hpp"
 #include "spatial/options.hpp"
 #include "spatial/reduce.hpp"

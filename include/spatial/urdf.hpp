@@ -97,6 +97,12 @@ struct LoadOptions {
   /// Turn body frames by π where needed so that joints about/along −x, −y, −z become the axis-aligned joint types
   /// (same q, same physics, fewer flops). false: keep the body frames and use RevoluteAxis/PrismaticAxis for them.
   bool axis_aligned = true;
+  /// Make the base link (`root`, or `subtree` when given) free-flying: `LoadedModel::floating` is set and
+  /// `floating_model(loaded)` gives the `FloatingModel` (free-flyer `floating_base` at the base link's frame, its
+  /// inertia = `base_inertia`, gravity in world coordinates). A URDF whose root link is massless and attached to the
+  /// rest by a single `floating` joint (the "world" link convention) is loaded floating from that joint's child
+  /// whatever this option says.
+  bool floating = false;
 };
 
 /// What the model keeps of a URDF joint that moves a body (one per body, model order).
@@ -131,6 +137,9 @@ struct LoadedModel {
   Inertia<double> base_inertia = Inertia<double>::Zero();
   std::string root;    ///< the link the model is rooted at
   std::string source;  ///< file name or the name given to `load_string`
+  /// The base link is free-flying (`LoadOptions::floating`, or a URDF `floating` joint from a massless root link):
+  /// use `floating_model(*this)`.
+  bool floating = false;
 
   /// Index in `links` of the link with that name, or −1.
   int link_index(const std::string& name) const {
@@ -493,6 +502,30 @@ inline LoadedModel build(const Description& d, const LoadOptions& opt, const std
     }
   }
 
+  // A URDF `floating` joint from a massless root link (a "world" link) to the rest: free-flying from its child.
+  bool floating = opt.floating;
+  if (opt.root.empty() && opt.subtree.empty()) {
+    const auto& adj = d.adjacent[static_cast<std::size_t>(base)];
+    const LinkRec& world = d.links[static_cast<std::size_t>(base)];
+    if (adj.size() == 1 && d.joints[static_cast<std::size_t>(adj[0])].kind == Kind::Floating) {
+      const JointRec& j = d.joints[static_cast<std::size_t>(adj[0])];
+      if (world.inertia.m != 0.0 || world.inertia.I.norm() != 0.0)
+        fail(source, "joint " + quote(j.name) + " is of type floating but its parent link " + quote(world.name) +
+                         " has mass: a floating joint is supported only from a massless root link (the world)");
+      base = j.child;
+      floating = true;
+      std::fill(kept.begin(), kept.end(), 0);
+      kept[static_cast<std::size_t>(base)] = 1;
+      for (int l : order) {
+        const int k = towards_root[static_cast<std::size_t>(l)];
+        if (k < 0) continue;
+        const JointRec& jk = d.joints[static_cast<std::size_t>(k)];
+        const int up = jk.parent == l ? jk.child : jk.parent;
+        if (kept[static_cast<std::size_t>(up)] && up != root) kept[static_cast<std::size_t>(l)] = 1;
+      }
+    }
+  }
+
   // Gravity, in the base frame.
   Eigen::Vector3d g = opt.gravity ? *opt.gravity : Eigen::Vector3d(0, 0, -9.81);
   if (!g.allFinite()) fail(source, "gravity contains NaN or Inf");
@@ -510,6 +543,7 @@ inline LoadedModel build(const Description& d, const LoadOptions& opt, const std
 
   LoadedModel out;
   out.source = source;
+  out.floating = floating;
   out.root = d.links[static_cast<std::size_t>(base)].name;
   ModelBuilder<double> builder;
   builder.set_gravity(g);
@@ -551,7 +585,8 @@ inline LoadedModel build(const Description& d, const LoadOptions& opt, const std
         } else {
           if (j.kind != Kind::Revolute && j.kind != Kind::Continuous && j.kind != Kind::Prismatic)
             fail(source, "joint " + quote(j.name) + " is of type " + kind_name(j.kind) +
-                             ", which is not supported (supported: revolute, continuous, prismatic, fixed)");
+                             ", which is not supported (supported: revolute, continuous, prismatic, fixed; floating "
+                             "only from a massless root link, or LoadOptions::floating for the base link)");
           if (!j.mimic.empty())
             fail(source, "joint " + quote(j.name) + " mimics joint " + quote(j.mimic) +
                              ": mimic joints are not supported (lock it, or remove the <mimic> element to make it "
@@ -734,6 +769,15 @@ Model<double, TreeT> to_static(const LoadedModel& loaded) {
   } catch (const ModelError& e) {
     throw ModelError(loaded.source + ": " + e.what());
   }
+}
+
+/// The floating-base model of a model loaded with `LoadOptions::floating` (or from a URDF floating joint): the
+/// free-flyer at the base link's frame, its inertia `base_inertia`, the joints' tree `model` (whose gravity is read
+/// as world coordinates). Throws `ModelError` if the model was not loaded floating.
+inline FloatingModel<double> floating_model(const LoadedModel& loaded) {
+  if (!loaded.floating)
+    throw ModelError(loaded.source + ": the model was loaded with a fixed base (set LoadOptions::floating)");
+  return FloatingModel<double>(loaded.model, loaded.base_inertia, loaded.root);
 }
 
 /// Throws `ModelError` if some joint moves no mass (its whole subtree is massless), which makes the joint-space
