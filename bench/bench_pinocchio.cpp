@@ -9,6 +9,7 @@
 // Before any timing, Pinocchio's results are compared with spatial's on the first 32 pool states and the program
 // aborts on a mismatch (double: τ, G, C, H and poses ≤ 1e-12 relative, q̈ ≤ 1e-10; float against spatial's double:
 // ≤ 1e-3).
+#include "bench_floating.hpp"
 #include "bench_models.hpp"
 #include "peers/peer_check.hpp"
 #include "peers/pinocchio_peer.hpp"
@@ -142,6 +143,70 @@ void register_pinocchio(const BenchModel<TreeT>& entry) {
   });
 }
 
+// ---- floating27: Pinocchio's free-flyer model of the HOAP-3 on the same states as bench_floating ----
+struct FloatingPinFixture {
+  FloatingPinocchioPeer<double> peer;
+  pinocchio::DataTpl<double> data;
+  std::vector<Eigen::VectorXd> q, v, u;  // in Pinocchio's order
+  int next = 0;
+  explicit FloatingPinFixture(FloatingPinocchioPeer<double> p) : peer(std::move(p)), data(peer.tree.model) {}
+  int take() {
+    next = next + 1 == static_cast<int>(q.size()) ? 0 : next + 1;
+    return next;
+  }
+};
+
+void register_pinocchio_floating() {
+  const auto& model = floating27();
+  auto fx = std::make_shared<FloatingPinFixture>(make_pinocchio_floating_peer(model));
+  const auto& pool = floating_pool();
+  for (int k = 0; k < pool.size(); ++k) {
+    const auto s = static_cast<std::size_t>(k);
+    fx->q.push_back(fx->peer.to_pinocchio(pool.q[s], 7));
+    fx->v.push_back(fx->peer.to_pinocchio(pool.v[s], 6));
+    fx->u.push_back(fx->peer.to_pinocchio(pool.u[s], 6));
+  }
+  // The check: RNEA τ (root wrench included), CRBA H, ABA v̇ on the first 32 states.
+  FloatingData<double, Floating27Tree> data(model);
+  PeerCheck tau{"Pinocchio rnea tau (double) on floating27", 1e-12},
+      mass{"Pinocchio crba H (upper triangle) (double) on floating27", 1e-12},
+      fd{"Pinocchio aba qdd (double) on floating27", 1e-10};
+  const auto& pm = fx->peer.tree.model;
+  using VQ = Eigen::Matrix<double, 28, 1>;
+  using VV = Eigen::Matrix<double, 27, 1>;
+  for (int k = 0; k < 32; ++k) {
+    const auto s = static_cast<std::size_t>(k);
+    const VQ q = pool.q[s];
+    const VV v = pool.v[s], u = pool.u[s];
+    tau.compare(fx->peer.from_pinocchio(pinocchio::rnea(pm, fx->data, fx->q[s], fx->v[s], fx->u[s])),
+                rnea(model, data, q, v, u));
+    Eigen::MatrixXd M = pinocchio::crba(pm, fx->data, fx->q[s]);
+    M.triangularView<Eigen::StrictlyLower>() = M.transpose().triangularView<Eigen::StrictlyLower>();
+    mass.compare(fx->peer.from_pinocchio_matrix(M), crba(model, data, q));
+    fd.compare(fx->peer.from_pinocchio(pinocchio::aba(pm, fx->data, fx->q[s], fx->v[s], fx->u[s])),
+               aba(model, data, q, v, u));
+  }
+  for (const PeerCheck* c : {&tau, &mass, &fd}) c->report();
+
+  using Fx = FloatingPinFixture;
+  const auto reg = [&](const char* algorithm, auto body) {
+    const std::string name = bench_name("pinocchio", algorithm, "floating27", "double", "-");
+    benchmark::RegisterBenchmark(name.c_str(), [fx, body](benchmark::State& st) {
+      Fx& f = *fx;
+      for (auto _ : st) body(f, static_cast<std::size_t>(f.take()));
+    });
+  };
+  reg("RNEA", [](Fx& f, std::size_t k) {
+    benchmark::DoNotOptimize(pinocchio::rnea(f.peer.tree.model, f.data, f.q[k], f.v[k], f.u[k]).data());
+  });
+  reg("CRBA", [](Fx& f, std::size_t k) {
+    benchmark::DoNotOptimize(pinocchio::crba(f.peer.tree.model, f.data, f.q[k]).data());
+  });
+  reg("ABA", [](Fx& f, std::size_t k) {
+    benchmark::DoNotOptimize(pinocchio::aba(f.peer.tree.model, f.data, f.q[k], f.v[k], f.u[k]).data());
+  });
+}
+
 const bool registered = [] {
   benchmark::AddCustomContext("pinocchio_version", PINOCCHIO_VERSION);
   benchmark::AddCustomContext("spatial_eigen", std::to_string(EIGEN_WORLD_VERSION) + "." +
@@ -155,6 +220,7 @@ const bool registered = [] {
 #elif defined(__GNUC__)
   benchmark::AddCustomContext("spatial_compiler", std::string("gcc ") + __VERSION__);
 #endif
+  register_pinocchio_floating();
   for_each_bench_model([](const auto& entry) {
     register_pinocchio<double>(entry);
 #ifdef SPATIAL_PINOCCHIO_FLOAT
