@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <random>
 #include <string>
 #include <vector>
@@ -428,6 +429,55 @@ TEST_F(CliErrors, BadCommandLines) {
   const RunResult help = dyn({"--help"});
   EXPECT_EQ(help.status, 0);
   EXPECT_NE(help.out.find("spatial-dyn id"), std::string::npos);
+}
+
+// A link inertia breaking the triangle inequality (CAD exports): a warning line on stderr and the work done;
+// --strict-inertia refuses the file (status 1, one line naming the link).
+TEST_F(CliErrors, TriangleInequalityWarnsAndStrictInertiaRefuses) {
+  const std::string urdf = dir_.file("imperfect.urdf");
+  std::ofstream(urdf) << R"(<robot name="t"><link name="a"/>
+    <link name="foot"><inertial><origin xyz="0.1 0 0"/><mass value="2"/>
+      <inertia ixx="0.3" ixy="0" ixz="0" iyy="0.5" iyz="0" izz="1.0"/></inertial></link>
+    <joint name="ankle" type="revolute"><parent link="a"/><child link="foot"/><axis xyz="0 1 0"/>
+      <limit lower="-1" upper="1" effort="3" velocity="4"/></joint></robot>)";
+  Csv c;
+  c.header = {"q:ankle", "qd:ankle", "qdd:ankle"};
+  c.rows = {{"0.1", "0.2", "0.3"}};
+  c.write(dir_.file("in.csv"));
+  const std::string warning = "spatial-dyn: warning: " + urdf +
+                              ": link 'foot': principal moments violate the triangle inequality: I1 + I2 = 0.8 < I3 = "
+                              "1 kg m^2 (short by 0.2, 20 %)\n";
+  const RunResult id = dyn({"id", "--urdf", urdf, "--in", dir_.file("in.csv")});
+  EXPECT_EQ(id.status, 0) << id.err;
+  EXPECT_EQ(id.err, warning);
+  const Csv out = parse_csv(id.out);
+  const uio::LoadedModel m = uio::load_file(urdf);
+  ASSERT_EQ(m.warnings.size(), 1u);
+  Data<double> d(m.model);
+  const Eigen::VectorXd q = Eigen::VectorXd::Constant(1, 0.1), qd = Eigen::VectorXd::Constant(1, 0.2),
+                        qdd = Eigen::VectorXd::Constant(1, 0.3);
+  EXPECT_EQ(out.number(0, "tau:ankle"), rnea(m.model, d, q, qd, qdd)[0]);
+  const RunResult info = dyn({"info", "--urdf", urdf});
+  EXPECT_EQ(info.status, 0) << info.err;
+  EXPECT_EQ(info.err, warning);
+
+  for (const auto& args : std::vector<std::vector<std::string>>{
+           {"id", "--urdf", urdf, "--in", dir_.file("in.csv"), "--strict-inertia"},
+           {"info", "--strict-inertia", "--urdf", urdf}}) {
+    const RunResult r = dyn(args);
+    expect_one_line_error(r, {urdf + ": link 'foot': principal moments violate the triangle inequality", "short by 0.2"});
+    EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
+  }
+  // Files that are fine: no warning, with or without --strict-inertia.
+  for (const bool strict : {false, true}) {
+    std::vector<std::string> args = {"info", "--urdf", urdf_path("double_pendulum.urdf")};
+    if (strict) args.emplace_back("--strict-inertia");
+    const RunResult r = dyn(args);
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_TRUE(r.err.empty()) << r.err;
+  }
+  expect_one_line_error(dyn({"info", "--urdf", urdf, "--strict-inertia=yes"}), {"--strict-inertia takes no value"}, 2);
+  EXPECT_NE(dyn({"--help"}).out.find("--strict-inertia"), std::string::npos);
 }
 
 #else
