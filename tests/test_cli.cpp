@@ -1,7 +1,8 @@
 // The command-line tool spatial-dyn (tools/spatial_dyn.cpp), run as a separate process on CSV files: each
 // subcommand against the library, the id -> fd round trip through files, the CSV rules (column order, extra
 // columns, columns of locked joints, stdin/stdout) and every error case (non-zero exit, one line naming the row and
-// column). The binary's path comes from CMake (SPATIAL_DYN_EXE).
+// column), and the inertia warnings of spatial-dyn and spatial-gen. The binaries' paths come from CMake
+// (SPATIAL_DYN_EXE, SPATIAL_GEN_EXE).
 
 #include <gtest/gtest.h>
 
@@ -479,6 +480,29 @@ TEST_F(CliErrors, TriangleInequalityWarnsAndStrictInertiaRefuses) {
   expect_one_line_error(dyn({"info", "--urdf", urdf, "--strict-inertia=yes"}), {"--strict-inertia takes no value"}, 2);
   EXPECT_NE(dyn({"--help"}).out.find("--strict-inertia"), std::string::npos);
 }
+
+#ifdef SPATIAL_GEN_EXE
+// spatial-gen loads through the same loader: the same warning on stderr (the header is written), and the same
+// refusal with --strict-inertia (nothing written).
+TEST_F(CliErrors, GeneratorPrintsTheWarningAndStrictInertiaRefuses) {
+  const std::string urdf = urdf_path("test/bad/triangle.urdf"), out = dir_.file("tri.hpp");
+  const RunResult ok = spatial::testing::run_program(SPATIAL_GEN_EXE, {"--urdf", urdf, "--name", "tri", "--out", out});
+  EXPECT_EQ(ok.status, 0) << ok.err;
+  EXPECT_EQ(ok.err.rfind("spatial-gen: warning: " + urdf + ": link 'b': principal moments violate the triangle "
+                         "inequality: I1 + I2 = 0.02 < I3 = 0.03 kg m^2 (short by 0.01, 33.3 %)\n",
+                         0),
+            0u)
+      << ok.err;
+  EXPECT_EQ(std::count(ok.err.begin(), ok.err.end(), '\n'), 1) << ok.err;
+  EXPECT_TRUE(std::filesystem::exists(out));
+  std::filesystem::remove(out);
+  const RunResult strict = spatial::testing::run_program(
+      SPATIAL_GEN_EXE, {"--urdf", urdf, "--name", "tri", "--out", out, "--strict-inertia"});
+  EXPECT_EQ(strict.status, 1);
+  EXPECT_EQ(strict.err.rfind("spatial-gen: " + urdf + ": link 'b': principal moments violate", 0), 0u) << strict.err;
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+#endif
 
 #else
 TEST(Cli, Skipped) { GTEST_SKIP() << "spatial-dyn is not built (SPATIAL_BUILD_TOOLS or SPATIAL_WITH_URDF off)"; }
