@@ -138,7 +138,8 @@ struct LoadedModel {
   std::string root;    ///< the link the model is rooted at
   std::string source;  ///< file name or the name given to `load_string`
   /// What was loaded although it is suspect (today: link inertias breaking the triangle inequality), one message
-  /// per link in link-name order, each starting like the errors with the source and naming the link, e.g.
+  /// per link of the file (also links outside `LoadOptions::subtree`: strict mode refuses those too) in link-name
+  /// order, each starting like the errors with the source and naming the link, e.g.
   /// "robot.urdf: link 'foot': principal moments violate the triangle inequality: I1 + I2 = 0.02 < I3 = 0.03 kg m^2
   /// (short by 0.01, 33.3 %)". Empty for a clean file; never filled with `LoadOptions::strict_inertia`.
   std::vector<std::string> warnings;
@@ -529,7 +530,8 @@ inline LoadedModel build(const Description& d, const LoadOptions& opt, const std
   out.root = d.links[static_cast<std::size_t>(base)].name;
   out.warnings = d.warnings;
   ModelBuilder<double> builder;
-  // The builder sees the same link inertias, moved into body frames: its warnings repeat those of `describe`.
+  // The builder sees the same link inertias, moved into body frames: its warnings repeat those of `describe` and
+  // are not copied (one warning per link).
   builder.set_strict_inertia(opt.strict_inertia);
   builder.set_gravity(g);
 
