@@ -1,7 +1,11 @@
 // spatial-gen: URDF -> a header with a compile-time model (spatial::Tree and every number as a constant).
 //
 //   spatial-gen --urdf FILE [--root LINK] [--subtree LINK] [--lock JOINT=ANGLE,...] [--gravity gx,gy,gz]
-//               [--gravity-frame root|urdf] --name NAME [--namespace NS] [--title TEXT] [--out FILE|-]
+//               [--gravity-frame root|urdf] [--floating] [--strict-inertia] --name NAME [--namespace NS] [--title TEXT]
+//               [--out FILE|-]
+//
+// The loader's warnings (link inertias breaking the triangle inequality) go to stderr as
+// "spatial-gen: warning: FILE: ..."; --strict-inertia refuses such a file instead.
 //
 // The model options mean what they mean to spatial::urdf_io::load_file (LoadOptions) and to spatial-dyn; the header
 // holds exactly the numbers the loader computes (printed as the shortest decimals that read back as the same
@@ -34,7 +38,7 @@ using cli::UsageError;
 
 const char* kUsage =
     "usage: spatial-gen --urdf FILE [--root LINK] [--subtree LINK] [--lock JOINT=ANGLE,...]\n"
-    "                   [--gravity gx,gy,gz] [--gravity-frame root|urdf] [--floating]\n"
+    "                   [--gravity gx,gy,gz] [--gravity-frame root|urdf] [--floating] [--strict-inertia]\n"
     "                   --name NAME [--namespace NS] [--title TEXT] [--out FILE|-]\n"
     "Writes a C++ header with the compile-time model of the URDF (spatial::Tree alias, NS::NAME::model<S>(),\n"
     "names, limits, frames, masses; with --floating also NS::NAME::floating_model<S>(), the free-flying base link\n"
@@ -367,6 +371,7 @@ int run(int argc, char** argv) {
   command += " --out " + name + ".hpp";
 
   const uio::LoadedModel loaded = uio::load_file(urdf, load);
+  cli::print_warnings(loaded, "spatial-gen");  // stderr: the header on stdout stays clean
   const std::string text = generate(loaded, name, ns, opts.get("--title").value_or(""), command);
 
   if (out == "-") {

@@ -7,6 +7,7 @@
 //   spatial-dyn scene NAME|all [--out DIR]      the reference study's experiments (tools/scenes.hpp)
 //   MODEL OPTIONS: --root LINK  --subtree LINK  --lock JOINT=ANGLE,...  --gravity gx,gy,gz  --gravity-frame root|urdf
 //                  --floating (the root link flies free: free-flyer columns floating_base:x … qw, :vx … wz)
+//                  --strict-inertia
 //
 // CSV rules (also in README.md, "Command-line tool"):
 //  - The first line is the header. Columns are named `q:<joint>`, `qd:<joint>`, `qdd:<joint>`, `tau:<joint>` with
@@ -25,6 +26,8 @@
 //    the output recomputes). --out - or no --out: stdout. Nothing is written unless every sample is good.
 //  - Errors: exit status 1 (bad input, model or file) or 2 (bad command line), and one line on stderr naming the
 //    file, line, row and column at fault.
+//  - Warnings: link inertias breaking the triangle inequality are loaded, with one line per link on stderr,
+//    "spatial-dyn: warning: FILE: link 'x': ..."; --strict-inertia refuses them (exit status 1).
 
 #include "cli_common.hpp"
 #include "scene_run.hpp"
@@ -62,7 +65,7 @@ const char* kUsage =
     "       spatial-dyn info --urdf FILE [MODEL OPTIONS]\n"
     "       spatial-dyn scene NAME|all [--out DIR]\n"
     "MODEL OPTIONS: --root LINK  --subtree LINK  --lock JOINT=ANGLE,...  --gravity gx,gy,gz  --gravity-frame root|urdf\n"
-    "               --floating\n"
+    "               --floating  --strict-inertia\n"
     "\n"
     "  id    inverse dynamics (RNEA): columns q:<joint>, qd:<joint>, qdd:<joint> -> tau:<joint>\n"
     "  fd    forward dynamics (ABA, or CRBA + LTDL with --method crba): q:, qd:, tau: -> qdd:<joint>\n"
@@ -76,7 +79,9 @@ const char* kUsage =
     "ignored (--echo copies them to the output); columns of joints the model does not move (fixed, locked, outside\n"
     "the subtree) are ignored. --in - reads stdin; --out - (default) writes stdout. Numbers are written with up to 17\n"
     "significant digits. Gravity defaults to (0, 0, -9.81) in the root link's frame (--gravity-frame urdf: in the\n"
-    "URDF root link's frame). Exit status: 0 ok, 1 bad input, 2 bad command line.\n"
+    "URDF root link's frame). A link inertia whose principal moments break the triangle inequality (I1 + I2 < I3:\n"
+    "impossible, but harmless to the algorithms; common in CAD exports) is loaded with a warning on stderr;\n"
+    "--strict-inertia refuses the file instead. Exit status: 0 ok, 1 bad input, 2 bad command line.\n"
     "\n"
     "--floating: the root link flies free (free-flyer 'floating_base'; also implied by a URDF floating joint from a\n"
     "massless world link). Its columns: q:floating_base:x, :y, :z (root origin in the world), :qx, :qy, :qz, :qw\n"
@@ -108,6 +113,7 @@ Robot load_robot(const cli::Options& opts) {
   r.urdf = opts.required("--urdf");
   const uio::LoadOptions load = cli::load_options(opts);
   r.loaded = uio::load_file(r.urdf, load);  // throws ModelError naming the file (and checks it can be read)
+  cli::print_warnings(r.loaded, "spatial-dyn");
   std::ifstream in(r.urdf, std::ios::binary);
   const std::string xml((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   for (const std::string& name : uio::detail::joint_document_order(xml)) r.urdf_joints.insert(name);

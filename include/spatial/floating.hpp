@@ -67,7 +67,7 @@ class FloatingModel {
   /// world coordinates. Throws `ModelError` for an unphysical root inertia.
   FloatingModel(TreeModel tree, const Inertia<S>& root_inertia, std::string root_name = "root")
       : tree_(std::move(tree)), I0_(root_inertia), root_name_(std::move(root_name)) {
-    const std::string bad = detail::inertia_problem(I0_);
+    const std::string bad = detail::inertia_problem(I0_).error;
     if (!bad.empty()) throw ModelError("root body '" + root_name_ + "': " + bad);
   }
 
