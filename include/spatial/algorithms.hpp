@@ -95,6 +95,12 @@ SPATIAL_INLINE void walk_up(const Model<S, T>& model, I i, F&& f) {
 struct NoExternalForces {};
 
 namespace detail {
+/// No per-body output from `crba_impl` (see there).
+struct NoForceSink {
+  static constexpr bool active = false;
+  template <class F>
+  void operator()(int, const F&) const {}
+};
 /// The root of a fixed-base tree: the base does not move, and the recursions start from v = 0 and a = −a_g.
 struct FixedRoot {
   static constexpr bool floating = false;
@@ -450,11 +456,15 @@ namespace detail {
 ///   S⁰ⱼ = ʲX_0⁻¹ Sⱼ, kept in `data.S_base`, with ⁱX_0 in `data.X_base`), where H_ij = S⁰ⱼ · F⁰ is a 6-term dot
 ///   product (the scalar product is invariant under the change of coordinates). Entries where neither joint is an
 ///   ancestor of the other stay zero.
-template <bool Simd = true, class S, class T>
-void crba_impl(const Model<S, T>& model, Data<S, T>& data) {
+///
+/// `sink(i, F⁰)`, when given (floating.hpp: the free-flyer's columns of H), receives every body's Fᵢ⁰ = ⁱX_0ᵀ Iᶜᵢ Sᵢ
+/// in base coordinates, the roots' included; the default `NoForceSink` compiles to nothing.
+template <bool Simd = true, class S, class T, class Sink = NoForceSink>
+void crba_impl(const Model<S, T>& model, Data<S, T>& data, Sink&& sink = Sink{}) {
+  constexpr bool Out = std::decay_t<Sink>::active;
 #if SPATIAL_SIMD_AVX2
   if constexpr (Simd && simd_enabled<S, T>()) {
-    simd::crba(model, data);
+    simd::crba(model, data, sink);
     return;
   }
 #endif
@@ -476,8 +486,12 @@ void crba_impl(const Model<S, T>& model, Data<S, T>& data) {
     const auto joint = model.joint(I);
     const Force<S> F = joint.apply_inertia(data.Ic[k]);
     data.H(i, i) = joint.project(F);
-    if (model.parent(I) < 0) return;
+    if (model.parent(I) < 0) {
+      if constexpr (Out) sink(i, data.X_base[k].apply_force_inverse(F));
+      return;
+    }
     const Force<S> F0 = data.X_base[k].apply_force_inverse(F);
+    if constexpr (Out) sink(i, F0);
     walk_up(model, I, [&](auto, auto P) {
       const int p = P;
       const S hip = dot(data.S_base[static_cast<std::size_t>(p)], F0);

@@ -422,6 +422,32 @@ void rnea_floating(const FloatingModel<S, T>& model, FloatingData<S, T>& data, c
 /// The floating-base rows and columns of H after the tree's CRBA (RBDA §9.4): Iᶜ₀ = I₀ + Σ_children ʲX₀ᵀ Iᶜⱼ ʲX₀,
 /// H₀₀ = Iᶜ₀ (linear first: [m1 h̃ᵀ; h̃ Ī]), H₀ⱼ = Fⱼ in root coordinates (Fⱼ = Iᶜⱼ Sⱼ), and the tree's H.
 template <class S, class T>
+void crba_floating_finish(const FloatingModel<S, T>& model, FloatingData<S, T>& data);
+
+/// The free-flyer's columns of H from the tree's CRBA: `crba_impl` hands every body's Fⱼ⁰ here.
+template <class S, class T>
+struct FreeFlyerColumns {
+  static constexpr bool active = true;
+  FloatingData<S, T>& data;
+  SPATIAL_INLINE void operator()(int i, const Force<S>& F0) const {
+    auto& H = data.H;
+    H(0, 6 + i) = H(6 + i, 0) = F0.f[0];
+    H(1, 6 + i) = H(6 + i, 1) = F0.f[1];
+    H(2, 6 + i) = H(6 + i, 2) = F0.f[2];
+    H(3, 6 + i) = H(6 + i, 3) = F0.n[0];
+    H(4, 6 + i) = H(6 + i, 4) = F0.n[1];
+    H(5, 6 + i) = H(6 + i, 5) = F0.n[2];
+  }
+};
+
+/// The tree's CRBA with the free-flyer's columns (see `crba_floating_finish`).
+template <bool Simd = true, class S, class T>
+void crba_floating(const FloatingModel<S, T>& model, FloatingData<S, T>& data) {
+  crba_impl<Simd>(model.tree(), data.tree, FreeFlyerColumns<S, T>{data});
+  crba_floating_finish(model, data);
+}
+
+template <class S, class T>
 void crba_floating_finish(const FloatingModel<S, T>& model, FloatingData<S, T>& data) {
   constexpr int NJ = FloatingModel<S, T>::NJ;
   const auto& tree = model.tree();
@@ -429,15 +455,10 @@ void crba_floating_finish(const FloatingModel<S, T>& model, FloatingData<S, T>& 
   const int n = model.njoints();
   data.Ic0 = model.root_inertia();
   for_each_body(tree, [&](auto I) {
-    const int i = I;
-    const auto k = static_cast<std::size_t>(i);
-    const auto joint = tree.joint(I);
-    const Force<S> F0 = td.X_base[k].apply_force_inverse(joint.apply_inertia(td.Ic[k]));
-    data.H.template block<3, 1>(0, 6 + i) = F0.f;
-    data.H.template block<3, 1>(3, 6 + i) = F0.n;
-    data.H.template block<1, 3>(6 + i, 0) = F0.f.transpose();
-    data.H.template block<1, 3>(6 + i, 3) = F0.n.transpose();
-    if (tree.parent(I) < 0) data.Ic0 += td.Ic[k].transformed_inverse(td.X_up[k]);
+    if (tree.parent(I) < 0) {
+      const auto k = static_cast<std::size_t>(int(I));
+      data.Ic0 += td.Ic[k].transformed_inverse(td.X_up[k]);
+    }
   });
   const Inertia<S>& Ic = data.Ic0;
   const Matrix3<S> hx = skew(Ic.h);
@@ -449,14 +470,6 @@ void crba_floating_finish(const FloatingModel<S, T>& model, FloatingData<S, T>& 
   else data.H.block(6, 6, n, n) = td.H;
 }
 
-/// λ(j) over the nv velocity coordinates of a floating model: the free-flyer's six form a chain 0 ← 1 ← … ← 5
-/// (its 6 × 6 block of H is dense), and the tree's roots hang from coordinate 5.
-template <class S, class T>
-SPATIAL_INLINE int floating_parent(const Model<S, T>& tree, int j) {
-  if (j < 6) return j - 1;
-  const int p = tree.parent(j - 6);
-  return p >= 0 ? p + 6 : 5;
-}
 }  // namespace detail
 
 /// Inverse dynamics of a floating-base tree: τ = H(q) v̇ + C(q, v) − Σ Jᵢᵀ fᵢˣ (nv entries; the first six are the
@@ -500,30 +513,59 @@ const typename FloatingData<S, T>::MatrixV& crba(const FloatingModel<S, T>& mode
                                                  const Eigen::MatrixBase<Q>& q) {
   const auto qj = detail::joint_block<FloatingModel<S, T>::NJ>(q, 7, model.njoints());
   detail::crba_inputs(model.tree(), data.tree, qj);
-  detail::crba_impl(model.tree(), data.tree);
-  detail::crba_floating_finish(model, data);
+  detail::crba_floating(model, data);
   return data.H;
 }
 
 /// H = Lᵀ D L along the tree with the free-flyer's six coordinates as a chain above the roots (RBDA §6.5, §9.4):
-/// each joint's row has its tree ancestors and the six root coordinates. Reads `data.H`, writes `data.L`.
+/// each joint's row has its tree ancestors and the six root coordinates, and the root's 6 × 6 block is dense.
+/// Joints are eliminated leaves first, as in `ltdl` (unrolled over the ancestors on compile-time trees), then the
+/// root's block. Reads `data.H`, writes `data.L`.
 template <class S, class T>
 void ltdl(const FloatingModel<S, T>& model, FloatingData<S, T>& data) {
   const auto& tree = model.tree();
   auto& L = data.L;
-  const int nv = model.nv();
-  for (int k = 0; k < nv; ++k) {
-    L(k, k) = data.H(k, k);
-    for (int i = detail::floating_parent(tree, k); i >= 0; i = detail::floating_parent(tree, i)) L(k, i) = data.H(k, i);
-  }
-  for (int k = nv - 1; k >= 0; --k) {
+  const auto& H = data.H;
+  for (int k = 0; k < 6; ++k)
+    for (int c = 0; c <= k; ++c) L(k, c) = H(k, c);
+  for_each_body(tree, [&](auto K) {
+    const int k = 6 + int(K);
+    L(k, k) = H(k, k);
+    walk_up(tree, K, [&](auto, auto P) { L(k, 6 + int(P)) = H(k, 6 + int(P)); });
+    for (int c = 0; c < 6; ++c) L(k, c) = H(k, c);
+  });
+  for_each_body_reverse(tree, [&](auto K) {
+    const int k = 6 + int(K);
     const S inv_d = S(1) / L(k, k);
-    for (int i = detail::floating_parent(tree, k); i >= 0; i = detail::floating_parent(tree, i)) {
+    walk_up(tree, K, [&](auto, auto I) {
+      const int i = 6 + int(I);
       const S lki = L(k, i);
       const S a = lki * inv_d;
       L(i, i) -= a * lki;
-      for (int j = detail::floating_parent(tree, i); j >= 0; j = detail::floating_parent(tree, j)) L(i, j) -= a * L(k, j);
+      if constexpr (FloatingModel<S, T>::is_static && FloatingModel<S, T>::NJ <= kMaxUnrolledLtdl) {
+        walk_up(tree, I, [&](auto, auto J) { L(i, 6 + int(J)) -= a * L(k, 6 + int(J)); });
+      } else {
+        walk_up(tree, int(I), [&](int, int j) { L(i, 6 + j) -= a * L(k, 6 + j); });
+      }
+      for (int c = 0; c < 6; ++c) L(i, c) -= a * L(k, c);
       L(k, i) = a;
+    });
+    for (int b = 5; b >= 0; --b) {
+      const S lkb = L(k, b);
+      const S a = lkb * inv_d;
+      L(b, b) -= a * lkb;
+      for (int c = 0; c < b; ++c) L(b, c) -= a * L(k, c);
+      L(k, b) = a;
+    }
+  });
+  for (int k = 5; k >= 0; --k) {
+    const S inv_d = S(1) / L(k, k);
+    for (int b = k - 1; b >= 0; --b) {
+      const S lkb = L(k, b);
+      const S a = lkb * inv_d;
+      L(b, b) -= a * lkb;
+      for (int c = 0; c < b; ++c) L(b, c) -= a * L(k, c);
+      L(k, b) = a;
     }
   }
 }
@@ -533,17 +575,25 @@ template <class S, class T, class X>
 void ltdl_solve(const FloatingModel<S, T>& model, const FloatingData<S, T>& data, Eigen::MatrixBase<X>& x) {
   const auto& tree = model.tree();
   const auto& L = data.L;
-  const int nv = model.nv();
-  for (int i = nv - 1; i >= 0; --i) {
+  // x ← L⁻ᵀ x (rows from the last), x ← D⁻¹ x, x ← L⁻¹ x (rows from the first).
+  for_each_body_reverse(tree, [&](auto I) {
+    const int i = 6 + int(I);
     const S xi = x[i];
-    for (int j = detail::floating_parent(tree, i); j >= 0; j = detail::floating_parent(tree, j)) x[j] -= L(i, j) * xi;
-  }
-  for (int i = 0; i < nv; ++i) x[i] /= L(i, i);
-  for (int i = 0; i < nv; ++i) {
+    walk_up(tree, I, [&](auto, auto J) { x[6 + int(J)] -= L(i, 6 + int(J)) * xi; });
+    for (int c = 0; c < 6; ++c) x[c] -= L(i, c) * xi;
+  });
+  for (int i = 5; i >= 0; --i)
+    for (int c = 0; c < i; ++c) x[c] -= L(i, c) * x[i];
+  for (int i = 0; i < model.nv(); ++i) x[i] /= L(i, i);
+  for (int i = 0; i < 6; ++i)
+    for (int c = 0; c < i; ++c) x[i] -= L(i, c) * x[c];
+  for_each_body(tree, [&](auto I) {
+    const int i = 6 + int(I);
     S xi = x[i];
-    for (int j = detail::floating_parent(tree, i); j >= 0; j = detail::floating_parent(tree, j)) xi -= L(i, j) * x[j];
+    walk_up(tree, I, [&](auto, auto J) { xi -= L(i, 6 + int(J)) * x[6 + int(J)]; });
+    for (int c = 0; c < 6; ++c) xi -= L(i, c) * x[c];
     x[i] = xi;
-  }
+  });
 }
 
 /// Forward dynamics of a floating-base tree by CRBA and the tree-sparse LTDL: v̇ = H⁻¹ (τ − C(q, v)) (nv entries;
@@ -557,8 +607,7 @@ const typename FloatingData<S, T>::VectorV& forward_dynamics_crba(const Floating
   using namespace detail;
   rnea_floating<kGravity | kVelocity>(model, data, q, v, v, NoExternalForces{}, ForceFrame::Body, data.tmp);
   data.tmp = tau - data.tmp;
-  crba_impl<false>(model.tree(), data.tree);  // the transforms of the bias pass (scalar path: it wrote X_up)
-  crba_floating_finish(model, data);
+  crba_floating<false>(model, data);  // the transforms of the bias pass (scalar path: it wrote X_up)
   ltdl(model, data);
   data.qdd = data.tmp;
   ltdl_solve(model, data, data.qdd);

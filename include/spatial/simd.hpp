@@ -329,9 +329,10 @@ SPATIAL_INLINE void for_each_ancestor(F& f) {
 /// crba_impl's AVX2 path: the same three passes and the same outputs in `data` (X_up, X_base, S_base, Ic, H). The
 /// transforms ⁱX_λ are composed again from data.cos_q and data.sin_q rather than read back from data.X_up: reading
 /// a 4-lane value that two stores wrote moments ago stalls until they retire, which costs more than the rotation.
-template <class S, class T>
-void crba(const Model<S, T>& model, Data<S, T>& data) {
+template <class S, class T, class Sink>
+void crba(const Model<S, T>& model, Data<S, T>& data, Sink& sink) {
   constexpr int NB = T::size;
+  constexpr bool Out = std::decay_t<Sink>::active;
   struct Body {
     V ucol[3], urow[3], ur;  // ⁱX_λ: columns and rows of E, r
     V col[3], row[3], r;     // ⁱX_0
@@ -415,10 +416,16 @@ void crba(const Model<S, T>& model, Data<S, T>& data) {
     const V fn = B.ic[K];
     const V ff = _mm256_mul_pd(swap_other<K>(B.ih), _mm256_sub_pd(zero(), sign<K>()));
     data.H(i, i) = get<K>(fn);
-    if constexpr (T::parent[i] >= 0) {
+    if constexpr (T::parent[i] >= 0 || Out) {
       // F⁰ = ⁱX_0ᵀ F = [Eᵀ n + r × Eᵀ f; Eᵀ f]; H_ij = S⁰ⱼ · F⁰ for every ancestor j.
       V n0, f0;
       apply_force_inverse(B.row, B.r, fn, ff, n0, f0);
+      if constexpr (Out) {
+        Force<double> F0;
+        store4(F0.n.data(), n0);
+        store3(F0.f.data(), f0);
+        sink(i, F0);
+      }
       auto entry = [&](auto J) SPATIAL_LAMBDA_INLINE {
         constexpr int j = decltype(J)::value;
         const double hij = hsum(_mm256_fmadd_pd(b[j].sw, n0, _mm256_mul_pd(b[j].sv, f0)));
