@@ -109,13 +109,18 @@ struct FixedRoot {
 /// with velocity `v` and acceleration `a` (root coordinates; `a` includes the fictitious −a_g where gravity is on).
 /// RNEA adds the forces transmitted to the root into `*f`; ABA adds the articulated inertias and bias forces that
 /// the root's children pass to it into `*IA` and `*pA` (root coordinates).
-template <class S>
+///
+/// ABA calls `solve()` between its passes 2 and 3: it returns the root's acceleration (minus gravity) from the
+/// completed `*IA` and `*pA` (floating.hpp solves Iᴬ₀ a₀′ = τ₀ − pᴬ₀), and pass 3 starts from it.
+struct NoRootSolve {};
+template <class S, class Solve = NoRootSolve>
 struct MovingRoot {
   static constexpr bool floating = true;
   Motion<S> v, a;
   Force<S>* f = nullptr;
   ArticulatedInertia<S>* IA = nullptr;
   Force<S>* pA = nullptr;
+  Solve solve{};
 };
 }  // namespace detail
 
@@ -259,9 +264,9 @@ void rnea_impl(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBa
   constexpr bool R = Root::floating;
   (void)root;
 #if SPATIAL_SIMD_AVX2
-  if constexpr (Simd && !X && !R && simd_enabled<S, T>()) {
+  if constexpr (Simd && !X && simd_enabled<S, T>()) {
     (void)fext, (void)frame;
-    simd::rnea<Terms>(model, data, q, qd, qdd, tau);
+    simd::rnea<Terms>(model, data, q, qd, qdd, tau, root);
     return;
   }
 #endif
@@ -599,9 +604,9 @@ namespace detail {
 /// The articulated-body algorithm with a compile-time choice of terms: without `V` (q̇ = 0) vᵢ = cᵢ = 0, pass 1 is
 /// the transforms alone and pass 2 drops Iᵃ cᵢ; without `G`, a₀ = 0. `aba` below and `aba<Dyn>` (options.hpp).
 ///
-/// With a `MovingRoot` (floating base) the passes run in two halves around the root, which `floating.hpp` solves in
-/// between: `aba_impl` runs passes 1 and 2 (adding what the root's children pass to it into `*root.IA` and
-/// `*root.pA`, velocities from `root.v`), and `aba_pass3` runs pass 3 from the root's acceleration `root.a`.
+/// With a `MovingRoot` (floating base) pass 1 starts from the root's velocity `root.v`, pass 2 adds what the
+/// root's children pass to it into `*root.IA` and `*root.pA`, `root.solve()` returns the root's acceleration and
+/// pass 3 starts from it.
 template <bool G, bool V, class S, class T, class Root>
 void aba_pass3(const Model<S, T>& model, Data<S, T>& data, const Root& root);
 
@@ -614,9 +619,9 @@ void aba_impl(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBas
   constexpr bool R = Root::floating;
   (void)root;
 #if SPATIAL_SIMD_AVX2
-  if constexpr (Simd && !X && !R && simd_enabled<S, T>()) {
+  if constexpr (Simd && !X && simd_enabled<S, T>()) {
     (void)fext, (void)frame;
-    simd::aba<G, V>(model, data, q, qd, tau);
+    simd::aba<G, V>(model, data, q, qd, tau, root);
     return;
   }
 #endif
@@ -672,7 +677,13 @@ void aba_impl(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBas
       }
     }
   });
-  if constexpr (!R) aba_pass3<G, V>(model, data, root);
+  if constexpr (R) {
+    Root moved = root;
+    moved.a = root.solve();
+    aba_pass3<G, V>(model, data, moved);
+  } else {
+    aba_pass3<G, V>(model, data, root);
+  }
 }
 
 /// ABA's pass 3 (see `aba_impl`): a′ = ⁱX_λ a_λ + cᵢ from a₀ = −a_g (fixed base) or `root.a` (floating base),

@@ -373,7 +373,7 @@ typename FloatingModel<S, T>::ConfigVector random_configuration(const FloatingMo
 namespace detail {
 /// RNEA on a floating base (RBDA §9.3 with the root's acceleration given): the tree's recursion from the root's
 /// v₀ and a₀ − a_g, then f₀ = I₀ (a₀ − a_g) + v₀ ×* I₀ v₀ − f₀ˣ + Σ_children ʲX₀ᵀ fⱼ. Writes τ (nv) into `tau`.
-template <unsigned Terms, class S, class T, class Q, class V, class A, class Ext, class Out>
+template <unsigned Terms, bool Simd = true, class S, class T, class Q, class V, class A, class Ext, class Out>
 void rnea_floating(const FloatingModel<S, T>& model, FloatingData<S, T>& data, const Eigen::MatrixBase<Q>& q,
                    const Eigen::MatrixBase<V>& v, const Eigen::MatrixBase<A>& a, const Ext& fext, ForceFrame frame,
                    Eigen::MatrixBase<Out>& tau) {
@@ -405,15 +405,15 @@ void rnea_floating(const FloatingModel<S, T>& model, FloatingData<S, T>& data, c
     if (frame == ForceFrame::Base) {
       data.f0 -= data.X0.apply_force(fext[0]);
       const TreeForcesFromWorld<S, Ext> tf{fext, data.X0};
-      rnea_impl<Terms, false>(model.tree(), data.tree, qj, vj, aj, tf, ForceFrame::Base, tj, root);
+      rnea_impl<Terms, Simd>(model.tree(), data.tree, qj, vj, aj, tf, ForceFrame::Base, tj, root);
     } else {
       data.f0 -= fext[0];
       const TreeForces<Ext> tf{fext};
-      rnea_impl<Terms, false>(model.tree(), data.tree, qj, vj, aj, tf, ForceFrame::Body, tj, root);
+      rnea_impl<Terms, Simd>(model.tree(), data.tree, qj, vj, aj, tf, ForceFrame::Body, tj, root);
     }
   } else {
     (void)fext, (void)frame;
-    rnea_impl<Terms, false>(model.tree(), data.tree, qj, vj, aj, fext, ForceFrame::Body, tj, root);
+    rnea_impl<Terms, Simd>(model.tree(), data.tree, qj, vj, aj, fext, ForceFrame::Body, tj, root);
   }
   tau.template head<3>() = data.f0.f;
   tau.template segment<3>(3) = data.f0.n;
@@ -437,6 +437,19 @@ struct FreeFlyerColumns {
     H(3, 6 + i) = H(6 + i, 3) = F0.n[0];
     H(4, 6 + i) = H(6 + i, 4) = F0.n[1];
     H(5, 6 + i) = H(6 + i, 5) = F0.n[2];
+  }
+};
+
+/// ABA's root step (RBDA §9.5): a₀′ = Iᴬ₀⁻¹ (τ₀ − pᴬ₀) by a 6 × 6 Cholesky factorisation, kept in `data.a0`.
+template <class S, class T>
+struct RootSolve {
+  FloatingData<S, T>* data = nullptr;
+  Force<S> tau0 = Force<S>::Zero();
+  Motion<S> operator()() const {
+    const Force<S> rhs = tau0 - data->pA0;
+    const Vector6<S> a = data->IA0.matrix().llt().solve(rhs.vector());
+    data->a0 = Motion<S>(a.template head<3>(), a.template tail<3>());
+    return data->a0;
   }
 };
 
@@ -607,12 +620,19 @@ const typename FloatingData<S, T>::VectorV& forward_dynamics_crba(const Floating
   using namespace detail;
   rnea_floating<kGravity | kVelocity>(model, data, q, v, v, NoExternalForces{}, ForceFrame::Body, data.tmp);
   data.tmp = tau - data.tmp;
-  crba_floating<false>(model, data);  // the transforms of the bias pass (scalar path: it wrote X_up)
+  crba_floating(model, data);  // the transforms of the bias pass (the scalar path reads its X_up)
   ltdl(model, data);
   data.qdd = data.tmp;
   ltdl_solve(model, data, data.qdd);
   return data.qdd;
 }
+
+namespace detail {
+template <bool Simd, class S, class T, class Q, class V, class Tau, class Ext>
+void aba_floating(const FloatingModel<S, T>& model, FloatingData<S, T>& data, const Eigen::MatrixBase<Q>& q,
+                  const Eigen::MatrixBase<V>& v, const Eigen::MatrixBase<Tau>& tau, const Ext& fext,
+                  ForceFrame frame);
+}  // namespace detail
 
 /// Forward dynamics of a floating-base tree by the articulated-body algorithm (RBDA §9.5, Table 9.6 with the
 /// root's wrench τ₀): passes 1–2 over the tree with the root's velocity, the root's articulated inertia
@@ -623,7 +643,16 @@ const typename FloatingData<S, T>::VectorV& aba(const FloatingModel<S, T>& model
                                                 const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<V>& v,
                                                 const Eigen::MatrixBase<Tau>& tau, const Ext& fext = Ext(),
                                                 ForceFrame frame = ForceFrame::Body) {
-  using namespace detail;
+  detail::aba_floating<true>(model, data, q, v, tau, fext, frame);
+  return data.qdd;
+}
+
+namespace detail {
+/// `aba` on a floating base; `Simd` = false forces the scalar tree passes (tests compare the two).
+template <bool Simd, class S, class T, class Q, class V, class Tau, class Ext>
+void aba_floating(const FloatingModel<S, T>& model, FloatingData<S, T>& data, const Eigen::MatrixBase<Q>& q,
+                  const Eigen::MatrixBase<V>& v, const Eigen::MatrixBase<Tau>& tau, const Ext& fext,
+                  ForceFrame frame) {
   constexpr int NJ = FloatingModel<S, T>::NJ;
   constexpr bool X = has_external_v<Ext>;
   const int n = model.njoints();
@@ -632,10 +661,11 @@ const typename FloatingData<S, T>::VectorV& aba(const FloatingModel<S, T>& model
   data.v0 = root_motion(v).template cast<S>();
   data.IA0 = ArticulatedInertia<S>(I0);
   data.pA0 = cross(data.v0, I0 * data.v0);
-  MovingRoot<S> root;
+  MovingRoot<S, RootSolve<S, T>> root;
   root.v = data.v0;
   root.IA = &data.IA0;
   root.pA = &data.pA0;
+  root.solve = RootSolve<S, T>{&data, root_wrench(tau).template cast<S>()};
   const auto qj = joint_block<NJ>(q, 7, n);
   const auto vj = joint_block<NJ>(v, 6, n);
   const auto tj = joint_block<NJ>(tau, 6, n);
@@ -643,28 +673,23 @@ const typename FloatingData<S, T>::VectorV& aba(const FloatingModel<S, T>& model
     if (frame == ForceFrame::Base) {
       data.pA0 -= data.X0.apply_force(fext[0]);
       const TreeForcesFromWorld<S, Ext> tf{fext, data.X0};
-      aba_impl<true, true, false>(model.tree(), data.tree, qj, vj, tj, tf, ForceFrame::Base, root);
+      aba_impl<true, true, Simd>(model.tree(), data.tree, qj, vj, tj, tf, ForceFrame::Base, root);
     } else {
       data.pA0 -= fext[0];
       const TreeForces<Ext> tf{fext};
-      aba_impl<true, true, false>(model.tree(), data.tree, qj, vj, tj, tf, ForceFrame::Body, root);
+      aba_impl<true, true, Simd>(model.tree(), data.tree, qj, vj, tj, tf, ForceFrame::Body, root);
     }
   } else {
     (void)frame;
-    aba_impl<true, true, false>(model.tree(), data.tree, qj, vj, tj, fext, ForceFrame::Body, root);
+    aba_impl<true, true, Simd>(model.tree(), data.tree, qj, vj, tj, fext, ForceFrame::Body, root);
   }
-  const Force<S> rhs = root_wrench(tau).template cast<S>() - data.pA0;
-  const Vector6<S> a0 = data.IA0.matrix().llt().solve(rhs.vector());
-  root.a = Motion<S>(a0.template head<3>(), a0.template tail<3>());
-  data.a0 = root.a;
-  aba_pass3<true, true>(model.tree(), data.tree, root);
   const Vector3<S> g0 = data.X0.E * model.gravity();
-  data.qdd.template head<3>() = root.a.v + g0;
-  data.qdd.template segment<3>(3) = root.a.w;
+  data.qdd.template head<3>() = data.a0.v + g0;
+  data.qdd.template segment<3>(3) = data.a0.w;
   if constexpr (NJ != Eigen::Dynamic) data.qdd.template segment<NJ>(6) = data.tree.qdd;
   else data.qdd.segment(6, n) = data.tree.qdd;
-  return data.qdd;
 }
+}  // namespace detail
 
 /// Forward kinematics of a floating-base tree: `data.X0` = ⁰X_w and the tree's `data.tree.X_up`, `X_base` (root
 /// → body coordinates). World transforms: `world_transform(data, i)`.
