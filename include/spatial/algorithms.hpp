@@ -462,8 +462,10 @@ namespace detail {
 ///   product (the scalar product is invariant under the change of coordinates). Entries where neither joint is an
 ///   ancestor of the other stay zero.
 ///
-/// `sink(i, F⁰)`, when given (floating.hpp: the free-flyer's columns of H), receives every body's Fᵢ⁰ = ⁱX_0ᵀ Iᶜᵢ Sᵢ
-/// in base coordinates, the roots' included; the default `NoForceSink` compiles to nothing.
+/// `sink`, when given (floating.hpp: the joint-space inertia of a floating base), takes the place of `data.H`: it
+/// receives every entry `sink.entry(i, j, Hᵢⱼ)` (j = i or an ancestor of i; `data.H` is then not written) and every
+/// body's `sink(i, F⁰)`, Fᵢ⁰ = ⁱX_0ᵀ Iᶜᵢ Sᵢ in base coordinates, the roots' included. The default `NoForceSink`
+/// compiles to nothing.
 template <bool Simd = true, class S, class T, class Sink = NoForceSink>
 void crba_impl(const Model<S, T>& model, Data<S, T>& data, Sink&& sink = Sink{}) {
   constexpr bool Out = std::decay_t<Sink>::active;
@@ -490,7 +492,8 @@ void crba_impl(const Model<S, T>& model, Data<S, T>& data, Sink&& sink = Sink{})
     const auto k = static_cast<std::size_t>(i);
     const auto joint = model.joint(I);
     const Force<S> F = joint.apply_inertia(data.Ic[k]);
-    data.H(i, i) = joint.project(F);
+    if constexpr (Out) sink.entry(i, i, joint.project(F));
+    else data.H(i, i) = joint.project(F);
     if (model.parent(I) < 0) {
       if constexpr (Out) sink(i, data.X_base[k].apply_force_inverse(F));
       return;
@@ -500,8 +503,12 @@ void crba_impl(const Model<S, T>& model, Data<S, T>& data, Sink&& sink = Sink{})
     walk_up(model, I, [&](auto, auto P) {
       const int p = P;
       const S hip = dot(data.S_base[static_cast<std::size_t>(p)], F0);
-      data.H(i, p) = hip;
-      data.H(p, i) = hip;
+      if constexpr (Out) {
+        sink.entry(i, p, hip);
+      } else {
+        data.H(i, p) = hip;
+        data.H(p, i) = hip;
+      }
     });
   });
 }

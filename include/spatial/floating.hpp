@@ -424,11 +424,17 @@ void rnea_floating(const FloatingModel<S, T>& model, FloatingData<S, T>& data, c
 template <class S, class T>
 void crba_floating_finish(const FloatingModel<S, T>& model, FloatingData<S, T>& data);
 
-/// The free-flyer's columns of H from the tree's CRBA: `crba_impl` hands every body's Fⱼ⁰ here.
+/// The floating H from the tree's CRBA: `crba_impl` hands the joints' entries and every body's Fⱼ⁰ (the free-flyer's
+/// columns) here, in place of the tree's own `data.tree.H` (not written).
 template <class S, class T>
 struct FreeFlyerColumns {
   static constexpr bool active = true;
   FloatingData<S, T>& data;
+  /// Hᵢⱼ of the tree (j = i or an ancestor of i) into the joints' block, both triangles.
+  SPATIAL_INLINE void entry(int i, int j, S hij) const {
+    data.H(6 + i, 6 + j) = hij;
+    data.H(6 + j, 6 + i) = hij;
+  }
   SPATIAL_INLINE void operator()(int i, const Force<S>& F0) const {
     auto& H = data.H;
     H(0, 6 + i) = H(6 + i, 0) = F0.f[0];
@@ -462,10 +468,8 @@ void crba_floating(const FloatingModel<S, T>& model, FloatingData<S, T>& data) {
 
 template <class S, class T>
 void crba_floating_finish(const FloatingModel<S, T>& model, FloatingData<S, T>& data) {
-  constexpr int NJ = FloatingModel<S, T>::NJ;
   const auto& tree = model.tree();
   auto& td = data.tree;
-  const int n = model.njoints();
   data.Ic0 = model.root_inertia();
   for_each_body(tree, [&](auto I) {
     if (tree.parent(I) < 0) {
@@ -479,8 +483,6 @@ void crba_floating_finish(const FloatingModel<S, T>& model, FloatingData<S, T>& 
   data.H.template block<3, 3>(0, 3) = hx.transpose();
   data.H.template block<3, 3>(3, 0) = hx;
   data.H.template block<3, 3>(3, 3) = Ic.I;
-  if constexpr (NJ != Eigen::Dynamic) data.H.template block<NJ, NJ>(6, 6) = td.H;
-  else data.H.block(6, 6, n, n) = td.H;
 }
 
 }  // namespace detail

@@ -437,7 +437,8 @@ void crba(const Model<S, T>& model, Data<S, T>& data, Sink& sink) {
     // F = Iᶜ S = [Ī e_K; e_K × h]; Hᵢᵢ = Sᵀ F = Ī_KK.
     const V fn = B.ic[K];
     const V ff = _mm256_mul_pd(swap_other<K>(B.ih), _mm256_sub_pd(zero(), sign<K>()));
-    data.H(i, i) = get<K>(fn);
+    if constexpr (Out) sink.entry(i, i, get<K>(fn));
+    else data.H(i, i) = get<K>(fn);
     if constexpr (T::parent[i] >= 0 || Out) {
       // F⁰ = ⁱX_0ᵀ F = [Eᵀ n + r × Eᵀ f; Eᵀ f]; H_ij = S⁰ⱼ · F⁰ for every ancestor j.
       V n0, f0;
@@ -451,8 +452,12 @@ void crba(const Model<S, T>& model, Data<S, T>& data, Sink& sink) {
       auto entry = [&](auto J) SPATIAL_LAMBDA_INLINE {
         constexpr int j = decltype(J)::value;
         const double hij = hsum(_mm256_fmadd_pd(b[j].sw, n0, _mm256_mul_pd(b[j].sv, f0)));
-        data.H(i, j) = hij;
-        data.H(j, i) = hij;
+        if constexpr (Out) {
+          sink.entry(i, j, hij);
+        } else {
+          data.H(i, j) = hij;
+          data.H(j, i) = hij;
+        }
       };
       for_each_ancestor<T, i>(entry);
     }
