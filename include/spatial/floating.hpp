@@ -123,6 +123,7 @@ struct FloatingData {
     tmp = VectorV::Zero(nv);
     H = MatrixV::Zero(nv, nv);
     L = MatrixV::Zero(nv, nv);
+    J = decltype(J)::Zero(6, nv), dJ = J;
   }
 
   Data<S, TreeT> tree;       ///< the tree's per-body buffers (body coordinates; "base" = root coordinates)
@@ -138,6 +139,7 @@ struct FloatingData {
   VectorV tmp;  ///< scratch: τ − C of forward dynamics by CRBA
   MatrixV H;    ///< joint-space inertia (nv × nv); entries coupling joints on different branches stay zero
   MatrixV L;    ///< LTDL factor of H (D on the diagonal)
+  Eigen::Matrix<S, 6, NM> J, dJ;  ///< kinematics.hpp: Jacobians (World, 6 × nv, free-flyer first) and their J̇
 };
 
 // ---------------------------------------------------------------------------------------------------------------

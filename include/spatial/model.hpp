@@ -552,6 +552,7 @@ struct Data {
     sin_q = VectorN::Zero(n);
     H = MatrixN::Zero(n, n);
     L = MatrixN::Zero(n, n);
+    J = decltype(J)::Zero(6, n), dJ = J;
   }
 
   Array<Transform<S>> X_up{};    ///< ⁱX_λ(i): parent coordinates → body i coordinates
@@ -573,6 +574,7 @@ struct Data {
   VectorN cos_q, sin_q;          ///< cos qᵢ and sin qᵢ of the last configuration whose transforms were computed
   MatrixN H;                     ///< joint-space inertia (CRBA output); only ancestor–descendant entries non-zero
   MatrixN L;                     ///< LTDL factor of H: unit L below the diagonal, D on the diagonal
+  Eigen::Matrix<S, 6, NM> J, dJ; ///< kinematics.hpp: joint Jacobians (World, rows linear first) and their J̇
 };
 
 }  // namespace spatial

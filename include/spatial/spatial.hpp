@@ -12,3 +12,4 @@
 #include "spatial/checks.hpp"
 #include "spatial/options.hpp"
 #include "spatial/reduce.hpp"
+#include "spatial/kinematics.hpp"
