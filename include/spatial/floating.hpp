@@ -138,6 +138,8 @@ struct FloatingData {
   VectorV tmp;  ///< scratch: τ − C of forward dynamics by CRBA
   MatrixV H;    ///< joint-space inertia (nv × nv); entries coupling joints on different branches stay zero
   MatrixV L;    ///< LTDL factor of H (D on the diagonal)
+  /// centroidal.hpp: centre of mass, its velocity and acceleration (world coordinates)
+  Vector3<S> com = Vector3<S>::Zero(), vcom = Vector3<S>::Zero(), acom = Vector3<S>::Zero();
 };
 
 // ---------------------------------------------------------------------------------------------------------------

@@ -527,6 +527,8 @@ struct Data {
   VectorN cos_q, sin_q;          ///< cos qᵢ and sin qᵢ of the last configuration whose transforms were computed
   MatrixN H;                     ///< joint-space inertia (CRBA output); only ancestor–descendant entries non-zero
   MatrixN L;                     ///< LTDL factor of H: unit L below the diagonal, D on the diagonal
+  /// centroidal.hpp: centre of mass, its velocity and acceleration (base coordinates)
+  Vector3<S> com = Vector3<S>::Zero(), vcom = Vector3<S>::Zero(), acom = Vector3<S>::Zero();
 };
 
 }  // namespace spatial
