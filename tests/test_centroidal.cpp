@@ -302,4 +302,208 @@ TEST(CentroidalCom, AccelerationMatchesSecondDifference) {
   std::printf("CoM acceleration: worst |c̈ − FD| / (1 + |c̈|) %.2e\n", worst);
 }
 
+// ---------------------------------------------------------------------------------------------------------------
+// Centroidal momentum matrix, momentum and composite inertia
+// ---------------------------------------------------------------------------------------------------------------
+
+TEST(CentroidalMomentum, FixedMatchesTheBodiesMomentaAboutTheCom) {
+  // No difference quotient: 1e-12 relative to |h_G| (|I_G|).
+  double worst = 0;
+  for (const Case& c : kCases) {
+    const auto m = random_fixed(c.n, c.shape, c.seed);
+    Data<double> d(m);
+    std::mt19937 rng(c.seed + 11);
+    for (int t = 0; t < 3; ++t) {
+      const Vec q = spatial::testing::random_vector(m.size(), rng, 2.0);
+      const Vec v = spatial::testing::random_vector(m.size(), rng);
+      Mat Ag(6, m.size());
+      centroidal_momentum_matrix(m, d, q, Ag);
+      const V3 com = d.com;
+      EXPECT_LT((com - center_of_mass(m, d, q)).norm(), 1e-14);
+      const auto bodies = fixed_bodies(m, d, q, v);
+      const V6 ref = momentum_about(bodies, com);
+      const V6 hg = centroidal_momentum(m, d, q, v);
+      worst = std::max(worst, rel_diff(Vec(Ag * v), ref));
+      EXPECT_LT(rel_diff(Vec(Ag * v), ref), 1e-12) << "n " << c.n;
+      EXPECT_LT(rel_diff(hg, ref), 1e-12) << "n " << c.n;
+      EXPECT_LT((hg.head<3>() - m.total_mass() * d.vcom).norm(), 1e-12 * hg.norm());
+      // The linear rows are M J_c.
+      Mat Jc(3, m.size());
+      com_jacobian(m, d, q, Jc);
+      EXPECT_LT(rel_diff(Mat(Ag.topRows<3>()), Mat(m.total_mass() * Jc)), 1e-12);
+      const M6 IG = centroidal_composite_inertia(m, d, q);
+      const M6 IG_ref = inertia_about(bodies, com);
+      EXPECT_LT(rel_diff(IG, IG_ref), 1e-12) << "n " << c.n;
+      EXPECT_LT(IG.topRightCorner<3, 3>().cwiseAbs().maxCoeff(), 1e-13 * IG.norm());  // about the CoM: no coupling
+    }
+  }
+  std::printf("fixed A_G v: worst relative error %.2e\n", worst);
+}
+
+TEST(CentroidalMomentum, FloatingMatchesTheBodiesMomentaAboutTheCom) {
+  double worst = 0;
+  for (const Case& c : kCases) {
+    const auto m = random_floating(c.n, c.shape, c.seed);
+    FloatingData<double> d(m);
+    std::mt19937 rng(c.seed + 12);
+    for (int t = 0; t < 3; ++t) {
+      const Vec q = random_q(m, rng);
+      const Vec v = spatial::testing::random_vector(m.nv(), rng);
+      Mat Ag(6, m.nv());
+      centroidal_momentum_matrix(m, d, q, Ag);
+      const V3 com = d.com;
+      EXPECT_LT((com - center_of_mass(m, d, q)).norm(), 1e-14 * 10);
+      const auto bodies = floating_bodies(m, d, q, v);
+      const V6 ref = momentum_about(bodies, com);
+      const V6 hg = centroidal_momentum(m, d, q, v);
+      worst = std::max(worst, rel_diff(Vec(Ag * v), ref));
+      EXPECT_LT(rel_diff(Vec(Ag * v), ref), 1e-12) << "n " << c.n;
+      EXPECT_LT(rel_diff(hg, ref), 1e-12) << "n " << c.n;
+      Mat Jc(3, m.nv());
+      com_jacobian(m, d, q, Jc);
+      EXPECT_LT(rel_diff(Mat(Ag.topRows<3>()), Mat(m.total_mass() * Jc)), 1e-12);
+      const M6 IG = centroidal_composite_inertia(m, d, q);
+      EXPECT_LT(rel_diff(IG, inertia_about(bodies, com)), 1e-12) << "n " << c.n;
+      // The first six columns: the composite inertia at the root (CRBA's H₀₀, linear first: [m 1, h̃ᵀ; h̃, Ī]) moved
+      // to G = (origin c, world axes): with P the linear-first ↔ angular-first swap, A_G[:, 0:6] = P ᴳX_r* P H₀₀,
+      // ᴳX_r = (E = R, r = c in root coordinates).
+      const Mat H = crba(m, d, q);
+      M6 P = M6::Zero();
+      P.topRightCorner<3, 3>().setIdentity();
+      P.bottomLeftCorner<3, 3>().setIdentity();
+      const M3 R = root_quaternion(q).toRotationMatrix();
+      const V3 c_root = R.transpose() * (com - q.head<3>());
+      const M6 X = Transform<double>(R, c_root).force_matrix();
+      const M6 expect = P * X * P * M6(H.topLeftCorner<6, 6>());
+      EXPECT_LT(rel_diff(M6(Ag.leftCols<6>()), expect), 1e-12) << "n " << c.n;
+    }
+  }
+  std::printf("floating A_G v: worst relative error %.2e\n", worst);
+}
+
+TEST(CentroidalMomentum, RootRowsOfRneaAreTheMomentumRateMinusTheWeight) {
+  // RNEA's first six rows are the wrench f₀ the root needs (force first, root coordinates, moment about the root
+  // origin) = the net external wrench on the robot = ḣ − weight. ḣ_G and the weight (M g, 0) are both about c with
+  // world axes: their difference F_G = (k̇_G, ṗ − M g) (angular first) is moved to the world origin,
+  // n_O = n_G + c × f, then to root coordinates by ⁰X_w* (data.X0.apply_force). 1e-12 relative.
+  const V3 g(0.3, -0.2, -9.81);
+  double worst = 0;
+  for (const Case& c : kCases) {
+    const auto m = random_floating(c.n, c.shape, c.seed, g);
+    FloatingData<double> d(m);
+    std::mt19937 rng(c.seed + 13);
+    for (int t = 0; t < 3; ++t) {
+      const Vec q = random_q(m, rng);
+      const Vec v = spatial::testing::random_vector(m.nv(), rng);
+      const Vec a = spatial::testing::random_vector(m.nv(), rng);
+      const CentroidalMomentumRate<double> r = centroidal_momentum_time_variation(m, d, q, v, a);
+      const V3 com = d.com;
+      const Force<double> FG(r.dhg.tail<3>(), V3(r.dhg.head<3>() - m.total_mass() * g));
+      const Force<double> FO(FG.n + com.cross(FG.f), FG.f);
+      const Force<double> Fr = detail::root_transform<double>(q).apply_force(FO);
+      const Vec tau = rnea(m, d, q, v, a);
+      V6 expect;
+      expect << Fr.f, Fr.n;
+      worst = std::max(worst, rel_diff(V6(tau.head<6>()), expect));
+      EXPECT_LT(rel_diff(V6(tau.head<6>()), expect), 1e-12) << "n " << c.n;
+    }
+  }
+  std::printf("RNEA root rows = ḣ_G − weight: worst relative error %.2e\n", worst);
+}
+
+TEST(CentroidalMomentum, RateMatchesFiniteDifferences) {
+  // Ȧ_G v: central difference of A_G along q ⊕ v t (v constant along it), times v; ḣ_G: central difference of h_G
+  // along (q ⊕ (v t + ½ a t²), v + a t). h = 1e-5: truncation ~h² ≈ 1e-10, rounding ~ε/h ≈ 2e-11 (relative).
+  // Also ḣ_G = A_G a + Ȧ_G v (1e-12).
+  double worst = 0;
+  for (const Case& c : kCases) {
+    const double h = 1e-5;
+    {
+      const auto m = random_fixed(c.n, c.shape, c.seed);
+      Data<double> d(m);
+      std::mt19937 rng(c.seed + 14);
+      const Vec q = spatial::testing::random_vector(m.size(), rng, 2.0);
+      const Vec v = spatial::testing::random_vector(m.size(), rng);
+      const Vec a = spatial::testing::random_vector(m.size(), rng);
+      Mat Ap(6, m.size()), Am(6, m.size()), A0(6, m.size());
+      centroidal_momentum_matrix(m, d, Vec(q + h * v), Ap);
+      centroidal_momentum_matrix(m, d, Vec(q - h * v), Am);
+      centroidal_momentum_matrix(m, d, q, A0);
+      const V6 dAv = (Ap - Am) * v / (2 * h);
+      const V6 hp = centroidal_momentum(m, d, Vec(q + h * v + 0.5 * h * h * a), Vec(v + h * a));
+      const V6 hm = centroidal_momentum(m, d, Vec(q - h * v + 0.5 * h * h * a), Vec(v - h * a));
+      const V6 dh = (hp - hm) / (2 * h);
+      const CentroidalMomentumRate<double> r = centroidal_momentum_time_variation(m, d, q, v, a);
+      worst = std::max({worst, rel_diff(r.dAg_v, dAv), rel_diff(r.dhg, dh)});
+      EXPECT_LT(rel_diff(r.dAg_v, dAv), 1e-7) << "fixed n " << c.n;
+      EXPECT_LT(rel_diff(r.dhg, dh), 1e-7) << "fixed n " << c.n;
+      EXPECT_LT(rel_diff(r.dhg, V6(A0 * a + r.dAg_v)), 1e-12) << "fixed n " << c.n;
+      EXPECT_GT(r.dAg_v.norm(), 1e-3);  // not trivially zero
+    }
+    {
+      const auto m = random_floating(c.n, c.shape, c.seed);
+      FloatingData<double> d(m);
+      std::mt19937 rng(c.seed + 15);
+      const Vec q = random_q(m, rng);
+      const Vec v = spatial::testing::random_vector(m.nv(), rng);
+      const Vec a = spatial::testing::random_vector(m.nv(), rng);
+      Mat Ap(6, m.nv()), Am(6, m.nv()), A0(6, m.nv());
+      centroidal_momentum_matrix(m, d, integrate(m, q, v, h), Ap);
+      centroidal_momentum_matrix(m, d, integrate(m, q, v, -h), Am);
+      centroidal_momentum_matrix(m, d, q, A0);
+      const V6 dAv = (Ap - Am) * v / (2 * h);
+      const V6 hp = centroidal_momentum(m, d, integrate(m, q, Vec(h * v + 0.5 * h * h * a)), Vec(v + h * a));
+      const V6 hm = centroidal_momentum(m, d, integrate(m, q, Vec(-h * v + 0.5 * h * h * a)), Vec(v - h * a));
+      const V6 dh = (hp - hm) / (2 * h);
+      const CentroidalMomentumRate<double> r = centroidal_momentum_time_variation(m, d, q, v, a);
+      worst = std::max({worst, rel_diff(r.dAg_v, dAv), rel_diff(r.dhg, dh)});
+      EXPECT_LT(rel_diff(r.dAg_v, dAv), 1e-7) << "floating n " << c.n;
+      EXPECT_LT(rel_diff(r.dhg, dh), 1e-7) << "floating n " << c.n;
+      EXPECT_LT(rel_diff(r.dhg, V6(A0 * a + r.dAg_v)), 1e-12) << "floating n " << c.n;
+      EXPECT_GT(r.dAg_v.norm(), 1e-3);
+    }
+  }
+  std::printf("ḣ_G, Ȧ_G v against differences: worst relative error %.2e\n", worst);
+}
+
+TEST(CentroidalMomentum, ConservedInFreeFlight) {
+  // No gravity, τ = 0: no external force, so h_G (linear momentum and angular momentum about the moving CoM) is
+  // constant. RK4 on the manifold over 1 s (as test_floating.cpp: of order 2 in the pose); the drift must be small
+  // and shrink at least threefold when the step is halved (a wrong term would leave a drift that does not shrink).
+  for (const Case& c : {Case{6, Shape::Branched, 31}, Case{12, Shape::Chain, 32}}) {
+    const auto m = random_floating(c.n, c.shape, c.seed, V3::Zero());
+    FloatingData<double> d(m);
+    std::mt19937 rng(c.seed);
+    const Vec q0 = random_q(m, rng);
+    const Vec v0 = spatial::testing::random_vector(m.nv(), rng);
+    const Vec tau = Vec::Zero(m.nv());
+    const V6 h0 = centroidal_momentum(m, d, q0, v0);
+    auto acc = [&](const Vec& qq, const Vec& vv) { return Vec(aba(m, d, qq, vv, tau)); };
+    double drift[2];
+    for (int run = 0; run < 2; ++run) {
+      const int steps = run == 0 ? 500 : 1000;
+      const double h = 1.0 / steps;
+      Vec q = q0, v = v0;
+      for (int step = 0; step < steps; ++step) {
+        const Vec k1v = v, k1a = acc(q, v);
+        const Vec q2 = integrate(m, q, k1v, h / 2);
+        const Vec k2v = v + h / 2 * k1a, k2a = acc(q2, k2v);
+        const Vec q3 = integrate(m, q, k2v, h / 2);
+        const Vec k3v = v + h / 2 * k2a, k3a = acc(q3, k3v);
+        const Vec q4 = integrate(m, q, k3v, h);
+        const Vec k4v = v + h * k3a, k4a = acc(q4, k4v);
+        q = integrate(m, q, Vec((k1v + 2 * k2v + 2 * k3v + k4v) / 6), h);
+        v += h / 6 * (k1a + 2 * k2a + 2 * k3a + k4a);
+      }
+      drift[run] = (centroidal_momentum(m, d, q, v) - h0).norm() / h0.norm();
+      // Along the way ḣ_G = 0 (no external force other than gravity, which is off).
+      const CentroidalMomentumRate<double> r = centroidal_momentum_time_variation(m, d, q, v, acc(q, v));
+      EXPECT_LT(r.dhg.norm(), 1e-10 * (1 + r.dAg_v.norm())) << "n " << c.n;
+    }
+    EXPECT_LT(drift[1], 1e-6) << "n " << c.n;
+    EXPECT_LT(drift[1], drift[0] / 3) << "n " << c.n;
+    std::printf("h_G drift over 1 s (n = %d): %.2e at 2 ms, %.2e at 1 ms\n", c.n, drift[0], drift[1]);
+  }
+}
+
 }  // namespace
