@@ -140,6 +140,8 @@ struct FloatingData {
   MatrixV H;    ///< joint-space inertia (nv × nv); entries coupling joints on different branches stay zero
   MatrixV L;    ///< LTDL factor of H (D on the diagonal)
   Eigen::Matrix<S, 6, NM> J, dJ;  ///< kinematics.hpp: Jacobians (World, 6 × nv, free-flyer first) and their J̇
+  /// centroidal.hpp: centre of mass, its velocity and acceleration (world coordinates)
+  Vector3<S> com = Vector3<S>::Zero(), vcom = Vector3<S>::Zero(), acom = Vector3<S>::Zero();
 };
 
 // ---------------------------------------------------------------------------------------------------------------

@@ -575,6 +575,8 @@ struct Data {
   MatrixN H;                     ///< joint-space inertia (CRBA output); only ancestor–descendant entries non-zero
   MatrixN L;                     ///< LTDL factor of H: unit L below the diagonal, D on the diagonal
   Eigen::Matrix<S, 6, NM> J, dJ; ///< kinematics.hpp: joint Jacobians (World, rows linear first) and their J̇
+  /// centroidal.hpp: centre of mass, its velocity and acceleration (base coordinates)
+  Vector3<S> com = Vector3<S>::Zero(), vcom = Vector3<S>::Zero(), acom = Vector3<S>::Zero();
 };
 
 }  // namespace spatial

@@ -9,6 +9,7 @@
 #include "spatial/sincos.hpp"
 #include "spatial/algorithms.hpp"
 #include "spatial/floating.hpp"
+#include "spatial/centroidal.hpp"
 #include "spatial/checks.hpp"
 #include "spatial/options.hpp"
 #include "spatial/reduce.hpp"
