@@ -334,7 +334,7 @@ TEST(CentroidalMomentum, FixedMatchesTheBodiesMomentaAboutTheCom) {
       const M6 IG = centroidal_composite_inertia(m, d, q);
       const M6 IG_ref = inertia_about(bodies, com);
       EXPECT_LT(rel_diff(IG, IG_ref), 1e-12) << "n " << c.n;
-      EXPECT_LT(IG.topRightCorner<3, 3>().cwiseAbs().maxCoeff(), 1e-13 * IG.norm());  // about the CoM: no coupling
+      EXPECT_LT((IG.topRightCorner<3, 3>().cwiseAbs().maxCoeff()), 1e-13 * IG.norm());  // about the CoM: no coupling
     }
   }
   std::printf("fixed A_G v: worst relative error %.2e\n", worst);
