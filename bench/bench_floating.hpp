@@ -22,6 +22,9 @@ inline const FloatingModel<double, Floating27Tree>& floating27() {
   return m;
 }
 
+/// The frame whose Jacobian the benchmarks time: the left sole (a fixed frame on the last body of the left leg).
+inline int floating27_frame() { return models::hoap3_floating::frame_index("L_SOLE"); }
+
 /// The run-time twin of a floating model.
 template <class S, class TreeT>
 FloatingModel<S> floating_to_runtime(const FloatingModel<S, TreeT>& m) {

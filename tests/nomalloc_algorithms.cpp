@@ -320,6 +320,23 @@ double run_kinematics(const M& model, D& d, const Q& q, const V& v, const V& a, 
   return sum;
 }
 
+// centroidal.hpp on fixed and floating bases: CoM with velocity and acceleration, subtree CoM, CoM Jacobians, A_G,
+// h_G, ḣ_G, I_G, into preallocated 3 × nv and 6 × nv matrices.
+template <class M, class D, class Q, class V, class J3, class J6>
+double run_centroidal(const M& model, D& d, const Q& q, const V& v, const V& a, J3& Jc, J6& Ag, int body) {
+  double sum = center_of_mass(model, d, q, v, a).sum() + d.vcom.sum() + d.acom.sum();
+  sum += subtree_center_of_mass(model, d, q, body).com.sum();
+  com_jacobian(model, d, q, Jc);
+  sum += Jc.sum();
+  subtree_com_jacobian(model, d, q, body, Jc);
+  sum += Jc.sum();
+  centroidal_momentum_matrix(model, d, q, Ag);
+  sum += Ag.sum() + centroidal_momentum(model, d, q, v).sum();
+  const auto r = centroidal_momentum_time_variation(model, d, q, v, a);
+  sum += r.dhg.sum() + r.dAg_v.sum() + centroidal_composite_inertia(model, d, q).sum();
+  return sum;
+}
+
 TEST(NoMalloc, Kinematics) {
   // Run-time fixed and floating bases with a frame, and the compile-time Tree8 on a floating base.
   ModelBuilder<double> b;
@@ -359,6 +376,8 @@ TEST(NoMalloc, Kinematics) {
   const V8 cv = spatial::testing::random_vector(14, rng), ca = spatial::testing::random_vector(14, rng);
   Eigen::MatrixXd J(6, 9), fJ(6, 15);
   Eigen::Matrix<double, 6, 14> cJ;
+  Eigen::MatrixXd J3(3, 9), fJ3(3, 15);
+  Eigen::Matrix<double, 3, 14> cJ3;
   double sum = 0;
   long news = 0;
   {
@@ -368,6 +387,9 @@ TEST(NoMalloc, Kinematics) {
     sum += run_kinematics(fmodel, fd, fq, fv, fa, fJ, 8, 0);
     sum += run_kinematics(fmodel, fd, fq, fv, fa, fJ, -1, 0);
     sum += run_kinematics(cmodel, cd, cq, cv, ca, cJ, 7, -1);
+    sum += run_centroidal(model, d, q, v, a, J3, J, 4);
+    sum += run_centroidal(fmodel, fd, fq, fv, fa, fJ3, fJ, 4);
+    sum += run_centroidal(cmodel, cd, cq, cv, ca, cJ3, cJ, 3);
     news = guard.new_calls();
   }
   g_sink = sum;

@@ -137,14 +137,21 @@ struct FloatingPinocchioPeer {
     out.tail(v.size() - 6) = tree.from_pinocchio(v.tail(v.size() - 6));
     return out;
   }
+  /// Our velocity index of Pinocchio's velocity index a.
+  Eigen::Index ours(Eigen::Index a) const { return a < 6 ? a : 6 + tree.order[std::size_t(a - 6)]; }
   template <class M>
   Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic> from_pinocchio_matrix(const M& m) const {
     const auto n = m.rows();
-    std::vector<Eigen::Index> ours(static_cast<std::size_t>(n));
-    for (Eigen::Index a = 0; a < n; ++a) ours[std::size_t(a)] = a < 6 ? a : 6 + tree.order[std::size_t(a - 6)];
     Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic> out(n, n);
     for (Eigen::Index a = 0; a < n; ++a)
-      for (Eigen::Index b = 0; b < n; ++b) out(ours[std::size_t(a)], ours[std::size_t(b)]) = m(a, b);
+      for (Eigen::Index b = 0; b < n; ++b) out(ours(a), ours(b)) = m(a, b);
+    return out;
+  }
+  /// A matrix with one column per velocity (Jacobians, A_G): Pinocchio's column order → ours.
+  template <class M>
+  Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic> from_pinocchio_columns(const M& m) const {
+    Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic> out(m.rows(), m.cols());
+    for (Eigen::Index a = 0; a < m.cols(); ++a) out.col(ours(a)) = m.col(a);
     return out;
   }
 };
@@ -173,6 +180,13 @@ FloatingPinocchioPeer<S> make_pinocchio_floating_peer(const FloatingModel<S, Tre
     const Vector3<S> c = I.m > S(0) ? Vector3<S>(I.h / I.m) : Vector3<S>::Zero();
     const Matrix3<S> Ic = I.m > S(0) ? I.inertia_com() : I.I;
     pm.appendBodyToJoint(joint_of[k], pinocchio::InertiaTpl<S>(I.m, c, Ic), pinocchio::SE3Tpl<S>::Identity());
+  }
+  // Our fixed frames as Pinocchio operational frames (same names, same order after Pinocchio's own frames):
+  // placement SE3(Eᵀ, r) of ᶠX_body = (E, r) in the parent joint's frame; body −1 is the root.
+  for (const FixedFrame<S>& f : m.frames()) {
+    const pinocchio::JointIndex parent = f.body < 0 ? root : joint_of[static_cast<std::size_t>(f.body)];
+    pm.addFrame(pinocchio::FrameTpl<S>(f.name, parent, pinocchio::SE3Tpl<S>(Matrix3<S>(f.X.E.transpose()), f.X.r),
+                                        pinocchio::OP_FRAME));
   }
   return peer;
 }
