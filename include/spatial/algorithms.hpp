@@ -374,6 +374,12 @@ const typename Data<S, T>::VectorN& gravity_torques(const Model<S, T>& model, Da
 template <class S, class T, class Q>
 void forward_kinematics(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q) {
   detail::joint_sincos(model, data, q);
+#if SPATIAL_SIMD_AVX2
+  if constexpr (detail::simd_enabled<S, T>()) {
+    detail::simd::forward_kinematics(model, data);  // also leaves data.S_base
+    return;
+  }
+#endif
   for_each_body(model, [&](auto I) { detail::update_transform<true>(model, data, I, q); });
 }
 

@@ -206,6 +206,14 @@ void joint_jacobian_columns(const K& k) {
       if constexpr (Dot) set_jacobian_column(k.data.dJ, c, cross(v0, s));
     }
   }
+#if SPATIAL_SIMD_AVX2
+  // The AVX2 forward kinematics has left Sⱼ in base (root) coordinates in data.S_base.
+  using TreeT = typename std::decay_t<decltype(k.tree)>::tree_type;
+  if constexpr (!Dot && K::root_cols > 0 && simd_enabled<S, TreeT>()) {
+    simd::world_jacobian_columns<TreeT::size>(td.S_base.data(), X0, J.data(), K::root_cols);
+    return;
+  }
+#endif
   for_each_body(k.tree, [&](auto I) {
     const auto i = static_cast<std::size_t>(int(I));
     // Sⱼ and vⱼ in base (root) coordinates, then (floating) in world coordinates.
@@ -302,19 +310,122 @@ void jacobian_time_variation_from_world(const K& k, int body, const Transform<ty
   });
 }
 
+#if SPATIAL_SIMD_AVX2
+/// jacobian_walk's AVX2 path (compile-time tree of axis-aligned revolute joints, double, J a column-major matrix
+/// with 6 rows): the chain's world transforms from the root down (ⁱX_w = ⁱX_λ ᵏX_w, starting from the root's
+/// ⁰X_w = X0, identity for a fixed base), then every column straight in `rf`: a joint with world axis ω through
+/// the point p moves the world origin at p × ω (World) and the frame's origin p_f at ω × (p_f − p)
+/// (LocalWorldAligned; Local rotates that into the frame's axes).
+template <class K, class Q>
+void jacobian_walk_simd(const K& k, const Eigen::MatrixBase<Q>& q, int body, const Transform<double>& Xf,
+                        ReferenceFrame rf, double* J) {
+  using namespace simd;
+  using T = typename std::decay_t<decltype(k.tree)>::tree_type;
+  constexpr int NB = T::size;
+  std::array<int, NB> idx;
+  std::array<double, NB> qc, cc, sc;
+  int n = 0;
+  for (int j = body; j >= 0; j = k.tree.parent(j), ++n) {
+    idx[static_cast<std::size_t>(n)] = j;
+    qc[static_cast<std::size_t>(n)] = double(q[K::qoff + j]);
+  }
+  sincos_all<double>(qc, cc, sc, n);
+  const Transform<double> X0 = K::root_cols > 0 ? root_transform<double>(q) : Transform<double>::Identity();
+  V col[3], row[3], r;  // the current body's ⁱX_w
+  col[0] = load3z(X0.E.data());
+  col[1] = load3z(X0.E.data() + 3);
+  col[2] = load3(X0.E.data() + 6);
+  transpose(col[0], col[1], col[2], row[0], row[1], row[2]);
+  r = load3(X0.r.data());
+  const V root_row[3] = {row[0], row[1], row[2]}, p0 = r;
+  V w[NB], p[NB];  // joint axes and origins in the world, tip first
+  for (int t = n - 1; t >= 0; --t) {
+    const auto u = static_cast<std::size_t>(t);
+    const int i = idx[u];
+    V ucol[3], ur;
+    const int axis_k = revolute_axis(T::joint[static_cast<std::size_t>(i)]);
+    if (axis_k == 0) compose<0>(k.tree.tree_transform(i), cc[u], sc[u], ucol[0], ucol[1], ucol[2], ur);
+    else if (axis_k == 1) compose<1>(k.tree.tree_transform(i), cc[u], sc[u], ucol[0], ucol[1], ucol[2], ur);
+    else compose<2>(k.tree.tree_transform(i), cc[u], sc[u], ucol[0], ucol[1], ucol[2], ur);
+    r = _mm256_add_pd(r, comb(row[0], row[1], row[2], ur));
+    for (int c = 0; c < 3; ++c) col[c] = comb(ucol[0], ucol[1], ucol[2], col[c]);
+    transpose(col[0], col[1], col[2], row[0], row[1], row[2]);
+    w[u] = row[axis_k];
+    p[u] = r;
+  }
+  // The frame: ᶠX_w = ᶠX_b ᵇX_w.
+  V fcol[3], frow[3];
+  {
+    const V a0 = load3z(Xf.E.data()), a1 = load3z(Xf.E.data() + 3), a2 = load3(Xf.E.data() + 6);
+    for (int c = 0; c < 3; ++c) fcol[c] = comb(a0, a1, a2, col[c]);
+    transpose(fcol[0], fcol[1], fcol[2], frow[0], frow[1], frow[2]);
+  }
+  const V pf = _mm256_add_pd(r, comb(row[0], row[1], row[2], load3(Xf.r.data())));
+  auto column = [&](int c, V wc, V pc, bool linear) SPATIAL_LAMBDA_INLINE {
+    V v;
+    if (linear) {
+      v = wc;  // a unit translation of the root along wc: every point moves by wc
+      wc = zero();
+    } else if (rf == ReferenceFrame::World) {
+      v = cross(pc, wc);
+    } else {
+      v = cross(wc, _mm256_sub_pd(pf, pc));
+    }
+    if (rf == ReferenceFrame::Local) {
+      v = comb(fcol[0], fcol[1], fcol[2], v);
+      wc = comb(fcol[0], fcol[1], fcol[2], wc);
+    }
+    double* out = J + 6 * c;
+    store4(out, v);
+    store3(out + 3, wc);
+  };
+  for (int t = 0; t < n; ++t) {
+    const auto u = static_cast<std::size_t>(t);
+    column(K::root_cols + idx[u], w[u], p[u], false);
+  }
+  if constexpr (K::root_cols > 0) {
+    // The free-flyer's unit velocities in root coordinates: root axis c in the world is row c of ⁰X_w's E.
+    for (int c = 0; c < 3; ++c) column(c, root_row[c], p0, true);
+    for (int c = 0; c < 3; ++c) column(3 + c, root_row[c], p0, false);
+  }
+}
+#endif
+
 /// The one-walk Jacobian of the frame ᶠX_body = `Xf` on `body` at configuration q (full q of the model).
 template <class K, class Q, class Out>
 void jacobian_walk(const K& k, const Eigen::MatrixBase<Q>& q, int body, Transform<typename Out::Scalar> X,
                    ReferenceFrame rf, Eigen::MatrixBase<Out>& J) {
   using S = typename Out::Scalar;
-  using std::cos;
-  using std::sin;
   J.setZero();
-  for (int j = body; j >= 0; j = k.tree.parent(j)) {
-    const auto joint = k.tree.joint(j);
-    set_jacobian_column(J, K::root_cols + j, X.apply(joint.motion(S(1))));  // ᶠX_j Sⱼ
-    const S qj = S(q[K::qoff + j]);
-    X = X * joint.compose(qj, S(cos(qj)), S(sin(qj)), k.tree.tree_transform(j));  // ᶠX_λ(j)
+#if SPATIAL_SIMD_AVX2
+  using TreeT = typename std::decay_t<decltype(k.tree)>::tree_type;
+  if constexpr (simd_enabled<S, TreeT>() && (int(Out::Flags) & Eigen::DirectAccessBit) && !Out::IsRowMajor &&
+                Out::InnerStrideAtCompileTime == 1 &&
+                (Out::RowsAtCompileTime == 6 || Out::RowsAtCompileTime == Eigen::Dynamic)) {
+    if (J.rows() == 6 && J.derived().outerStride() == 6) {
+      jacobian_walk_simd(k, q, body, X, rf, J.derived().data());
+      return;
+    }
+  }
+#endif
+  // The ancestors' sines and cosines eight at a time (sincos_all vectorises), then the walk over them.
+  constexpr int kChunk = 8;
+  std::array<int, kChunk> idx;
+  std::array<S, kChunk> qc, cc, sc;
+  for (int j = body; j >= 0;) {
+    int n = 0;
+    for (; n < kChunk && j >= 0; ++n, j = k.tree.parent(j)) {
+      idx[static_cast<std::size_t>(n)] = j;
+      qc[static_cast<std::size_t>(n)] = S(q[K::qoff + j]);
+    }
+    sincos_all<S>(qc, cc, sc, n);
+    for (int t = 0; t < n; ++t) {
+      const auto u = static_cast<std::size_t>(t);
+      const int i = idx[u];
+      const auto joint = k.tree.joint(i);
+      set_jacobian_column(J, K::root_cols + i, X.apply(joint.motion(S(1))));  // ᶠX_i Sᵢ
+      X = X * joint.compose(qc[u], cc[u], sc[u], k.tree.tree_transform(i));    // ᶠX_λ(i)
+    }
   }
   if constexpr (K::root_cols > 0) {
     for (int c = 0; c < 6; ++c) set_jacobian_column(J, c, X.apply(free_flyer_basis<S>(c)));

@@ -348,6 +348,57 @@ SPATIAL_INLINE void for_each_ancestor(F& f) {
   }
 }
 
+/// forward_kinematics' AVX2 path (after joint_sincos): ⁱX_λ into `data.X_up`, ⁱX_0 into `data.X_base` and the motion
+/// subspaces in base coordinates into `data.S_base`, as crba's first pass computes them.
+template <class S, class T>
+void forward_kinematics(const Model<S, T>& model, Data<S, T>& data) {
+  constexpr int NB = T::size;
+  struct Body {
+    V col[3], row[3], r;  // ⁱX_0: columns and rows of E, r
+  };
+  Body b[NB];
+  keep_in_memory(b);
+  auto forward = [&](auto I) SPATIAL_LAMBDA_INLINE {
+    constexpr int i = decltype(I)::value;
+    constexpr int p = T::parent[i];
+    constexpr int K = revolute_axis(T::joint[i]);
+    const auto k = static_cast<std::size_t>(i);
+    Body& B = b[i];
+    V ucol[3], urow[3], ur;
+    joint_transform<K>(model, data, i, ucol, urow, ur);
+    if constexpr (p >= 0) {
+      const Body& P = b[p];
+      for (int c = 0; c < 3; ++c) B.col[c] = comb(ucol[0], ucol[1], ucol[2], P.col[c]);
+      B.r = _mm256_add_pd(P.r, comb(P.row[0], P.row[1], P.row[2], ur));
+      transpose(B.col[0], B.col[1], B.col[2], B.row[0], B.row[1], B.row[2]);
+    } else {
+      for (int c = 0; c < 3; ++c) B.col[c] = ucol[c], B.row[c] = urow[c];
+      B.r = ur;
+    }
+    store_transform(data.X_base[k], B.col[0], B.col[1], B.col[2], B.r);
+    store4(data.S_base[k].w.data(), B.row[K]);
+    store3(data.S_base[k].v.data(), cross(B.r, B.row[K]));
+  };
+  for_each_index(forward, std::make_integer_sequence<int, NB>{});
+}
+
+/// Columns offset … offset + n − 1 of a 6-row column-major Jacobian (rows linear first) from n motion subspaces in
+/// root coordinates, moved to world coordinates by X0 = ⁰X_w: ω = E0ᵀ s_ω, v = E0ᵀ s_v + r0 × ω.
+template <int N>
+SPATIAL_INLINE void world_jacobian_columns(const Motion<double>* s, const Transform<double>& X0, double* J, int offset) {
+  V row[3];
+  transpose(load3z(X0.E.data()), load3z(X0.E.data() + 3), load3(X0.E.data() + 6), row[0], row[1], row[2]);
+  // transpose gives the rows of E0, i.e. the columns of E0ᵀ: comb with them is E0ᵀ x.
+  const V r0 = load3(X0.r.data());
+  for (int c = 0; c < N; ++c) {
+    const V w = comb(row[0], row[1], row[2], load3z(s[c].w.data()));
+    const V v = _mm256_add_pd(comb(row[0], row[1], row[2], load3z(s[c].v.data())), cross(r0, w));
+    double* out = J + 6 * (offset + c);
+    store4(out, v);
+    store3(out + 3, w);
+  }
+}
+
 /// crba_impl's AVX2 path: the same three passes and the same outputs in `data` (X_up, X_base, S_base, Ic, H). The
 /// transforms ⁱX_λ are composed again from data.cos_q and data.sin_q rather than read back from data.X_up: reading
 /// a 4-lane value that two stores wrote moments ago stalls until they retire, which costs more than the rotation.

@@ -1,0 +1,137 @@
+// The kinematics in a translation unit built with -mavx2 -mfma, where compile-time trees of axis-aligned revolute
+// joints take the AVX2 paths: forward kinematics (simd::forward_kinematics, which also leaves the motion subspaces
+// in base coordinates), the floating base's world Jacobian columns (simd::world_jacobian_columns) and the one-walk
+// body and frame Jacobians (detail::jacobian_walk_simd). Each is compared with the same call on the run-time twin
+// of the model (same numbers, scalar path), on the HOAP-3 models and random trees, fixed and floating; so are the
+// functions built on them (CoM Jacobian, A_G). The one-walk Jacobians are also written into a block of a larger
+// matrix (outer stride ≠ 6), which takes the scalar walk on the compile-time tree.
+#include "support/simd_compare.hpp"
+
+#include <spatial/models/hoap3_floating.hpp>
+
+namespace {
+using namespace spatial;
+using namespace spatial::testing::simd;
+
+constexpr ReferenceFrame kFrames[] = {ReferenceFrame::Local, ReferenceFrame::World,
+                                      ReferenceFrame::LocalWorldAligned};
+
+/// The run-time twin of a compile-time model: same bodies, same frames (massless: their mass is already merged).
+template <class TreeT>
+Model<double> runtime_twin(const Model<double, TreeT>& m) {
+  ModelBuilder<double> b;
+  b.set_gravity(m.gravity());
+  for (int i = 0; i < m.size(); ++i)
+    b.add_body(m.body_name(i), m.parent(i), m.joint_type(i), m.tree_transform(i), m.inertia(i), m.axis(i),
+               m.joint_name(i));
+  for (const FixedFrame<double>& f : m.frames()) b.add_fixed_body(f.name, f.body, f.X, Inertia<double>::Zero());
+  return b.build();
+}
+
+template <class A, class B>
+double max_diff(const Eigen::MatrixBase<A>& a, const Eigen::MatrixBase<B>& b) {
+  return (a - b).cwiseAbs().maxCoeff();
+}
+
+/// Every output of the kinematics on a compile-time model M (AVX2) and its run-time twin R (scalar), at q.
+template <class M, class R, class DM, class DR, class Q>
+void compare_kinematics(const M& m, const R& r, DM& dm, DR& dr, const Q& q, int nv, double tol) {
+  const Eigen::VectorXd qd = q;
+  // Forward kinematics: transforms, and the subspaces the AVX2 pass leaves in S_base.
+  forward_kinematics(m, dm, q);
+  forward_kinematics(r, dr, qd);
+  const auto& tm = detail::kin(m, dm).td();
+  const auto& tr = detail::kin(r, dr).td();
+  const auto& tree = detail::kin(m, dm).tree;
+  for (int i = 0; i < tree.size(); ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    EXPECT_LE(max_diff(tm.X_base[k].E, tr.X_base[k].E), tol) << "E of body " << i;
+    EXPECT_LE(max_diff(tm.X_base[k].r, tr.X_base[k].r), tol * (1 + tr.X_base[k].r.norm())) << "r of body " << i;
+    const Motion<double> s = tree.joint(i).subspace_inverse(tr.X_base[k]);
+    EXPECT_LE(max_diff(tm.S_base[k].w, s.w), tol) << "S_base of body " << i;
+    EXPECT_LE(max_diff(tm.S_base[k].v, s.v), tol * (1 + s.v.norm())) << "S_base of body " << i;
+  }
+  // All joint Jacobians (World).
+  const Eigen::MatrixXd Jr = compute_joint_jacobians(r, dr, qd);
+  const Eigen::MatrixXd Jm = compute_joint_jacobians(m, dm, q);
+  const double scale = 1 + Jr.cwiseAbs().maxCoeff();
+  EXPECT_LE(max_diff(Jm, Jr), tol * scale) << "compute_joint_jacobians";
+  // One-walk Jacobians of every body (and the base/root) and every frame, in the three reference frames; into a
+  // 6 × nv matrix (AVX2 walk) and into a block of a larger one (scalar walk on the same compile-time tree).
+  Eigen::MatrixXd Js(6, nv), Jb(6, nv), big(9, nv + 2), Jref(6, nv);
+  for (ReferenceFrame rf : kFrames) {
+    for (int b = -1; b < tree.size(); ++b) {
+      compute_body_jacobian(r, dr, qd, b, rf, Jref);
+      compute_body_jacobian(m, dm, q, b, rf, Js);
+      big.setConstant(7.0);
+      compute_body_jacobian(m, dm, q, b, rf, big.block(2, 1, 6, nv));
+      EXPECT_LE(max_diff(Js, Jref), tol * scale) << "body " << b << " rf " << int(rf);
+      EXPECT_LE(max_diff(big.block(2, 1, 6, nv), Jref), tol * scale) << "block, body " << b << " rf " << int(rf);
+      EXPECT_EQ(big.row(0).sum() + big.row(1).sum() + big.row(8).sum(), 3 * 7.0 * (nv + 2)) << "outside the block";
+      // The walk agrees with the Jacobian taken from all joint Jacobians.
+      body_jacobian(m, dm, b, rf, Jb);
+      EXPECT_LE(max_diff(Js, Jb), tol * scale) << "walk vs joint Jacobians, body " << b;
+    }
+    for (int f = 0; f < static_cast<int>(tree.frames().size()); ++f) {
+      compute_frame_jacobian(r, dr, qd, f, rf, Jref);
+      compute_frame_jacobian(m, dm, q, f, rf, Js);
+      EXPECT_LE(max_diff(Js, Jref), tol * scale) << "frame " << tree.frames()[std::size_t(f)].name;
+      frame_jacobian(m, dm, f, rf, Jb);
+      EXPECT_LE(max_diff(Js, Jb), tol * scale) << "walk vs joint Jacobians, frame " << f;
+    }
+  }
+  // CoM Jacobian and A_G (built on the forward kinematics).
+  Eigen::MatrixXd Cm(3, nv), Cr(3, nv), Am(6, nv), Ar(6, nv);
+  com_jacobian(m, dm, q, Cm);
+  com_jacobian(r, dr, qd, Cr);
+  EXPECT_LE(max_diff(Cm, Cr), tol * (1 + Cr.cwiseAbs().maxCoeff())) << "com_jacobian";
+  centroidal_momentum_matrix(m, dm, q, Am);
+  centroidal_momentum_matrix(r, dr, qd, Ar);
+  EXPECT_LE(max_diff(Am, Ar), tol * (1 + Ar.cwiseAbs().maxCoeff())) << "centroidal_momentum_matrix";
+}
+
+template <class TreeT>
+void compare_fixed(const Model<double, TreeT>& m, unsigned seed) {
+  static_assert(detail::simd_enabled<double, TreeT>());
+  const Model<double> r = runtime_twin(m);
+  Data<double, TreeT> dm(m);
+  Data<double> dr(r);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-3.2, 3.2);
+  for (int trial = 0; trial < 10; ++trial) {
+    Eigen::Matrix<double, TreeT::size, 1> q;
+    for (int i = 0; i < TreeT::size; ++i) q[i] = u(rng);
+    compare_kinematics(m, r, dm, dr, q, TreeT::size, tolerance<TreeT>());
+  }
+}
+
+template <class TreeT>
+void compare_floating(const FloatingModel<double, TreeT>& m, unsigned seed) {
+  static_assert(detail::simd_enabled<double, TreeT>());
+  const FloatingModel<double> r(runtime_twin(m.tree()), m.root_inertia(), m.root_name());
+  FloatingData<double, TreeT> dm(m);
+  FloatingData<double> dr(r);
+  std::mt19937 rng(seed);
+  const Eigen::VectorXd lo = Eigen::VectorXd::Constant(TreeT::size, -3.2), hi = -lo;
+  for (int trial = 0; trial < 10; ++trial) {
+    const Eigen::Matrix<double, FloatingModel<double, TreeT>::NQ, 1> q = random_configuration(m, lo, hi, rng);
+    compare_kinematics(m, r, dm, dr, q, m.nv(), tolerance<TreeT>());
+  }
+}
+
+TEST(SimdKinematics, FixedHoap3) { compare_fixed(models::hoap3_stance_right::model(), 80); }
+
+TEST(SimdKinematics, FloatingHoap3) { compare_floating(models::hoap3_floating::floating_model(), 81); }
+
+TEST(SimdKinematics, RandomTrees) {
+  const Inertia<double> I0 = Inertia<double>::from_com(2.0, Vector3<double>(0.1, -0.05, 0.02),
+                                                        Vector3<double>(0.02, 0.03, 0.04).asDiagonal());
+  for (unsigned seed = 82; seed < 85; ++seed) {
+    compare_fixed(random_static<Rev9>(seed), seed);
+    compare_fixed(random_static<RevChain24>(seed), seed);
+    compare_floating(FloatingModel<double, Rev9>(random_static<Rev9>(seed), I0), seed);
+    compare_floating(FloatingModel<double, RevChain24>(random_static<RevChain24>(seed), I0), seed);
+  }
+}
+
+}  // namespace
