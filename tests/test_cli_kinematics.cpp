@@ -1,8 +1,9 @@
 // spatial-dyn jacobian and com on the HOAP-3: the output's column names, and its numbers against the library's
 // compute_frame_jacobian (links merged into a body or the base: fixed frames of the model), the body Jacobian moved
 // to the link's own frame with link_pose (moving links, some of whose body frames are turned by π), center_of_mass
-// and com_jacobian, for the three reference frames, with a fixed and a floating base; then the errors (unknown
-// frame, bad --reference, missing q: column, options in the wrong place).
+// and com_jacobian, for the three reference frames, fixed at the pelvis, floating, and fixed at the right sole
+// (reversed joints); then the errors (unknown frame, bad --reference, missing q: column, options in the wrong
+// place).
 
 #include <gtest/gtest.h>
 
@@ -42,8 +43,15 @@ const char* kFreeFlyerQ[] = {"x", "y", "z", "qx", "qy", "qz", "qw"};
 const char* kFreeFlyerV[] = {"vx", "vy", "vz", "wx", "wy", "wz"};
 const char* kJacobianRows[] = {"vx", "vy", "vz", "wx", "wy", "wz"};  // linear first
 
-/// One of the two set-ups: the HOAP-3 fixed at base_link (every joint free), or floating with the head's pan and
-/// tilt and the wrists locked.
+// The study's stance model: rooted at the right sole, head and wrists locked.
+const char* kHeadAndWrists =
+    "CHEST_H_PAN_joint=0,H_PAN_H_TILT_joint=0,H_TILT_H_ROLL_joint=0,R_EB_R_WR_joint=0,L_EB_L_WR_joint=0";
+
+/// The set-ups: the HOAP-3 fixed at base_link (every joint free); floating, with the head's pan and tilt and the
+/// wrists locked; fixed at the right sole (the right leg's joints reversed: their bodies' frames are the joint
+/// frames, away from the links'), head and wrists locked.
+enum class Kind { Fixed, Floating, RightSole };
+
 struct KinRobot {
   bool floating = false;
   uio::LoadedModel loaded;
@@ -53,12 +61,18 @@ struct KinRobot {
   int nv() const { return static_cast<int>(v_names.size()); }
 };
 
-KinRobot make_robot(bool floating) {
+KinRobot make_robot(Kind kind) {
   KinRobot s;
-  s.floating = floating;
+  s.floating = kind == Kind::Floating;
   uio::LoadOptions o;
   s.model_args = {"--urdf", urdf_path("hoap3.urdf")};
-  if (floating) {
+  if (kind == Kind::RightSole) {
+    o.root = "R_SOLE";
+    o.locked = {{"CHEST_H_PAN_joint", 0.0}, {"H_PAN_H_TILT_joint", 0.0}, {"H_TILT_H_ROLL_joint", 0.0},
+                {"R_EB_R_WR_joint", 0.0}, {"L_EB_L_WR_joint", 0.0}};
+    s.model_args.insert(s.model_args.end(), {"--root", "R_SOLE", "--lock", kHeadAndWrists});
+  }
+  if (s.floating) {
     o.floating = true;
     o.locked = {{"CHEST_H_PAN_joint", 0.0}, {"H_PAN_H_TILT_joint", 0.0}, {"R_EB_R_WR_joint", 0.0},
                 {"L_EB_L_WR_joint", 0.0}};
@@ -191,7 +205,7 @@ std::string turned_link(const KinRobot& s) {
   return "";
 }
 
-class CliKinematics : public ::testing::TestWithParam<bool> {};
+class CliKinematics : public ::testing::TestWithParam<Kind> {};
 
 TEST_P(CliKinematics, JacobianMatchesTheLibrary) {
   const KinRobot s = make_robot(GetParam());
@@ -199,11 +213,12 @@ TEST_P(CliKinematics, JacobianMatchesTheLibrary) {
   const States st = random_states(s, 4, s.floating ? 11u : 12u);
   st.csv.write(dir.file("q.csv"));
   const std::string turned = turned_link(s);
-  // H_PAN_H_TILT_joint turns about −z, H_TILT_H_ROLL_joint about −x (the first is locked in the floating set-up).
-  ASSERT_EQ(turned, s.floating ? "H_ROLL" : "H_TILT");
+  // H_PAN_H_TILT_joint turns about −z, H_TILT_H_ROLL_joint about −x (the first is locked in the floating set-up);
+  // at the right sole the first is a reversed leg joint.
+  ASSERT_EQ(turned, GetParam() == Kind::Fixed ? "H_TILT" : GetParam() == Kind::Floating ? "H_ROLL" : "R_AFE");
   // A moving link turned by π, a plain moving link, links merged into a body (the sole, the hand; with the head's
   // pan and tilt locked, H_TILT), and the base link (on the fixed base: zero; floating: the free-flyer's columns).
-  std::vector<std::string> links = {turned, "R_KN", "R_SOLE", "L_HAND", "base_link"};
+  std::vector<std::string> links = {turned, "R_KN", "R_SOLE", "L_SOLE", "L_HAND", "base_link"};
   if (s.floating) links.push_back("H_TILT");
   for (const std::string& link : links) {
     for (const std::string ref : {"local", "world", "local_world_aligned"}) {
@@ -289,8 +304,12 @@ TEST_P(CliKinematics, CenterOfMassAndItsJacobianMatchTheLibrary) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(FixedAndFloating, CliKinematics, ::testing::Bool(),
-                         [](const ::testing::TestParamInfo<bool>& i) { return i.param ? "Floating" : "Fixed"; });
+INSTANTIATE_TEST_SUITE_P(Hoap3, CliKinematics, ::testing::Values(Kind::Fixed, Kind::Floating, Kind::RightSole),
+                         [](const ::testing::TestParamInfo<Kind>& i) {
+                           return i.param == Kind::Fixed      ? "Fixed"
+                                  : i.param == Kind::Floating ? "Floating"
+                                                              : "RightSole";
+                         });
 
 /// Status, and one line on stderr that contains every piece.
 void expect_error(const RunResult& r, int status, const std::vector<std::string>& pieces) {
@@ -303,7 +322,7 @@ void expect_error(const RunResult& r, int status, const std::vector<std::string>
 }
 
 TEST(CliKinematicsErrors, NamesTheProblem) {
-  const KinRobot s = make_robot(false);
+  const KinRobot s = make_robot(Kind::Fixed);
   ScratchDir dir("cli_kinematics_errors");
   States st = random_states(s, 2, 31u);
   st.csv.write(dir.file("q.csv"));
@@ -335,7 +354,7 @@ TEST(CliKinematicsErrors, NamesTheProblem) {
   expect_error(dyn({"com", "--urdf", urdf, "--in", dir.file("no_knee.csv")}), 1,
                {"missing column 'q:R_LFE_R_KN_joint'", "com needs q:"});
   // Floating: the free-flyer's q: columns are needed too.
-  const KinRobot f = make_robot(true);
+  const KinRobot f = make_robot(Kind::Floating);
   States fs = random_states(f, 1, 32u);
   const int w = fs.csv.column("q:floating_base:qw");
   ASSERT_GE(w, 0);
