@@ -1,8 +1,12 @@
-// spatial-dyn: inverse dynamics, forward dynamics and joint-space inertia of a URDF robot on CSV files of states.
+// spatial-dyn: inverse dynamics, forward dynamics, joint-space inertia, frame Jacobians and the centre of mass of a
+// URDF robot on CSV files of states.
 //
 //   spatial-dyn id   --urdf FILE [MODEL OPTIONS] --in STATES.csv [--out OUT.csv] [--echo]
 //   spatial-dyn fd   --urdf FILE [MODEL OPTIONS] --in STATES.csv [--out OUT.csv] [--echo] [--method aba|crba]
 //   spatial-dyn crba --urdf FILE [MODEL OPTIONS] --in STATES.csv [--out OUT.csv] [--echo]
+//   spatial-dyn jacobian --urdf FILE [MODEL OPTIONS] --frame LINK [--reference local|world|local_world_aligned]
+//                        --in STATES.csv [--out OUT.csv] [--echo]
+//   spatial-dyn com  --urdf FILE [MODEL OPTIONS] --in STATES.csv [--out OUT.csv] [--echo]
 //   spatial-dyn info --urdf FILE [MODEL OPTIONS]
 //   spatial-dyn scene NAME|all [--out DIR]      the reference study's experiments (tools/scenes.hpp)
 //   MODEL OPTIONS: --root LINK  --subtree LINK  --lock JOINT=ANGLE,...  --gravity gx,gy,gz  --gravity-frame root|urdf
@@ -14,20 +18,34 @@
 //    the URDF joint names, in any order; every later non-empty line is one sample. Plain comma-separated values:
 //    fields are trimmed, a header name in double quotes is unquoted, there is no other quoting. Blank lines are
 //    skipped.
-//  - id needs q, qd, qdd of every joint of the model; fd needs q, qd, tau; crba needs q. Columns of the four kinds
-//    that the subcommand does not use are not read (but their joint names are checked).
+//  - id needs q, qd, qdd of every joint of the model; fd needs q, qd, tau; crba, jacobian and com need q. Columns of
+//    the four kinds that the subcommand does not use are not read (but their joint names are checked).
 //  - A q:/qd:/qdd:/tau: column naming a joint that the URDF does not have is an error. Columns of URDF joints that
 //    the model does not move (fixed, --lock'ed, or outside the --subtree) are ignored, with a note on stderr: a
 //    whole-body trajectory can be fed to a model with locked joints; the lock positions come from --lock only.
 //  - Columns with any other name (`time`, ...) are ignored, or copied to the output with --echo.
-//  - Output: a header and one line per sample, `tau:<joint>` (id), `qdd:<joint>` (fd) or `H:<jointA>:<jointB>`
-//    row-major (crba), joints in model order (`spatial-dyn info`), numbers with up to 17 significant digits (the
-//    shortest text that reads back as the same double). --echo puts the input's columns first (except those that
-//    the output recomputes). --out - or no --out: stdout. Nothing is written unless every sample is good.
+//  - Output: a header and one line per sample, `tau:<joint>` (id), `qdd:<joint>` (fd), `H:<jointA>:<jointB>`
+//    row-major (crba), `J:<row>:<joint>` row-major with rows vx vy vz wx wy wz (jacobian), `com:x|y|z` then
+//    `Jcom:<x|y|z>:<joint>` (com); joints (velocity coordinates, the free-flyer's first) in model order
+//    (`spatial-dyn info`), numbers with up to 17 significant digits (the shortest text that reads back as the same
+//    double). --echo puts the input's columns first (except those that the output recomputes). --out - or no
+//    --out: stdout. Nothing is written unless every sample is good.
 //  - Errors: exit status 1 (bad input, model or file) or 2 (bad command line), and one line on stderr naming the
 //    file, line, row and column at fault.
 //  - Warnings: link inertias breaking the triangle inequality are loaded, with one line per link on stderr,
 //    "spatial-dyn: warning: FILE: link 'x': ..."; --strict-inertia refuses them (exit status 1).
+//
+// jacobian and com (kinematics.hpp, centroidal.hpp):
+//  - --frame names any URDF link the model keeps: a moving link (a body) or a link merged into one (a fixed frame,
+//    fixed or --lock'ed joint; links merged into the base hang from the base, i.e. the free-flyer with --floating).
+//    The Jacobian is that of the link's own frame (its URDF axes and origin), which may differ from the body frame
+//    (reversed joints, axes turned by π for −x/−y/−z joints): the link is added to the model as a FixedFrame.
+//  - --reference: local_world_aligned (the default: world axes, velocity of the frame's origin, as KDL's
+//    Jacobians), world (world axes, velocity of the body-fixed point at the world origin: Pinocchio's WORLD, its
+//    default) or local (the frame's axes and origin). "World" is the base frame for a fixed base.
+//  - com: the centre of mass and its Jacobian, over every body and in world coordinates with --floating; for a
+//    fixed base over the moving bodies only (the links merged into the base move nothing) in base coordinates
+//    (center_of_mass / com_jacobian's conventions). `spatial-dyn info`'s com also counts the base's links.
 
 #include "cli_common.hpp"
 #include "scene_run.hpp"
@@ -62,6 +80,9 @@ const char* kUsage =
     "usage: spatial-dyn id   --urdf FILE [MODEL OPTIONS] --in STATES.csv [--out OUT.csv] [--echo]\n"
     "       spatial-dyn fd   --urdf FILE [MODEL OPTIONS] --in STATES.csv [--out OUT.csv] [--echo] [--method aba|crba]\n"
     "       spatial-dyn crba --urdf FILE [MODEL OPTIONS] --in STATES.csv [--out OUT.csv] [--echo]\n"
+    "       spatial-dyn jacobian --urdf FILE [MODEL OPTIONS] --frame LINK\n"
+    "                        [--reference local_world_aligned|world|local] --in STATES.csv [--out OUT.csv] [--echo]\n"
+    "       spatial-dyn com  --urdf FILE [MODEL OPTIONS] --in STATES.csv [--out OUT.csv] [--echo]\n"
     "       spatial-dyn info --urdf FILE [MODEL OPTIONS]\n"
     "       spatial-dyn scene NAME|all [--out DIR]\n"
     "MODEL OPTIONS: --root LINK  --subtree LINK  --lock JOINT=ANGLE,...  --gravity gx,gy,gz  --gravity-frame root|urdf\n"
@@ -70,6 +91,18 @@ const char* kUsage =
     "  id    inverse dynamics (RNEA): columns q:<joint>, qd:<joint>, qdd:<joint> -> tau:<joint>\n"
     "  fd    forward dynamics (ABA, or CRBA + LTDL with --method crba): q:, qd:, tau: -> qdd:<joint>\n"
     "  crba  joint-space inertia matrix: q: -> H:<jointA>:<jointB>, row-major\n"
+    "  jacobian  Jacobian of the frame of link LINK (any link of the model: moving, or merged into a body or the\n"
+    "        base; the link's own frame): q: -> J:<row>:<joint>, row-major, rows vx vy vz wx wy wz (linear first),\n"
+    "        one column per velocity coordinate (the qd: columns' names: J:vz:<joint>, J:wx:floating_base:vy).\n"
+    "        --reference:\n"
+    "          local_world_aligned (default)  world axes, velocity of the frame's origin (KDL's Jacobians)\n"
+    "          world                          world axes, velocity of the body-fixed point at the world origin\n"
+    "                                         (Pinocchio's WORLD, its default)\n"
+    "          local                          the frame's own axes, velocity of its origin\n"
+    "        (for a fixed base, world means the base frame)\n"
+    "  com   centre of mass and its Jacobian: q: -> com:x, com:y, com:z, Jcom:<x|y|z>:<joint> (row-major); with\n"
+    "        --floating over every body in world coordinates, with a fixed base over the moving bodies in base\n"
+    "        coordinates (the links merged into the base move nothing; info's com counts them)\n"
     "  info  joints in model order, limits, mass, centre of mass, massless joints, frames\n"
     "  scene the reference study's experiments on the HOAP-3 reference models (no URDF needed): torso_arms,\n"
     "        torso_strokes, circles, step, pendulum, or all; writes DIR/NAME.csv and DIR/NAME.json (default DIR:\n"
@@ -89,7 +122,7 @@ const char* kUsage =
     "then angular velocity, acceleration or wrench, in root coordinates; Pinocchio's free-flyer convention). Gravity\n"
     "is then in world coordinates.\n";
 
-enum class Command { Id, Fd, Crba, Info };
+enum class Command { Id, Fd, Crba, Jacobian, Com, Info };
 
 // ---------------------------------------------------------------------------------------------------------------
 // The model
@@ -127,6 +160,42 @@ Robot load_robot(const cli::Options& opts) {
     r.v_names.push_back(r.loaded.model.joint_name(i));
   }
   return r;
+}
+
+/// --reference's value.
+ReferenceFrame parse_reference(const std::string& text) {
+  if (text == "local_world_aligned") return ReferenceFrame::LocalWorldAligned;
+  if (text == "world") return ReferenceFrame::World;
+  if (text == "local") return ReferenceFrame::Local;
+  throw UsageError("--reference: expected 'local_world_aligned', 'world' or 'local', got '" + text + "'");
+}
+
+/// Index in the model's frames of the frame of URDF link `link`. A link merged into a body (fixed or locked joint,
+/// or the base link) already is a frame of the model; a moving link is its body, whose frame may differ from the
+/// link's (reversed joint, axis turned by π), so its frame ˡX_body is added to `robot`'s model as a FixedFrame.
+/// Throws InputError naming the link and listing some of the model's links when there is none of that name.
+int link_frame(Robot& robot, const std::string& link, const cli::Options& opts) {
+  auto& frames = spatial::detail::ModelAccess::frames(robot.loaded.model);
+  for (std::size_t k = 0; k < frames.size(); ++k)
+    if (frames[k].name == link) return static_cast<int>(k);
+  const int li = robot.loaded.link_index(link);
+  if (li >= 0) {
+    const uio::LinkInfo& info = robot.loaded.links[static_cast<std::size_t>(li)];
+    frames.push_back({info.name, info.body, info.X});
+    return static_cast<int>(frames.size()) - 1;
+  }
+  const auto& links = robot.loaded.links;
+  std::string some;
+  const std::size_t shown = std::min<std::size_t>(links.size(), 8);
+  for (std::size_t k = 0; k < shown; ++k) some += (k ? ", " : "") + links[k].name;
+  if (shown < links.size()) some += ", …";
+  std::string why;
+  if (robot.urdf_joints.count(link))
+    why = "; '" + link + "' is a joint: name the link it moves";
+  else if (opts.has("--subtree"))
+    why = "; links outside --subtree " + *opts.get("--subtree") + " are not part of the model";
+  throw InputError("--frame: the model of " + robot.urdf + " has no link or frame '" + link + "' (it has " +
+                   std::to_string(links.size()) + " links: " + some + "; spatial-dyn info lists them)" + why);
 }
 
 // ---------------------------------------------------------------------------------------------------------------
@@ -307,11 +376,35 @@ void write_output(const std::string& path, const std::string& text) {
   if (!out) throw InputError(path + ": error while writing the file");
 }
 
+std::string command_name(Command cmd) {
+  switch (cmd) {
+    case Command::Id: return "id";
+    case Command::Fd: return "fd";
+    case Command::Crba: return "crba";
+    case Command::Jacobian: return "jacobian";
+    case Command::Com: return "com";
+    case Command::Info: break;
+  }
+  return "info";
+}
+
+/// Rows of the jacobian's and com's outputs.
+const std::array<const char*, 6> kJacobianRows = {"vx", "vy", "vz", "wx", "wy", "wz"};
+const std::array<const char*, 3> kComRows = {"x", "y", "z"};
+
 int run_dynamics(Command cmd, const cli::Options& opts) {
-  const Robot robot = load_robot(opts);
+  Robot robot = load_robot(opts);
+  const std::string name = command_name(cmd);
+  // jacobian: the frame (added to the model if it is a moving link) and the reference frame, before the model is
+  // used.
+  int frame = -1;
+  ReferenceFrame reference = ReferenceFrame::LocalWorldAligned;
+  if (cmd == Command::Jacobian) {
+    if (auto r = opts.get("--reference")) reference = parse_reference(*r);
+    frame = link_frame(robot, opts.required("--frame"), opts);
+  }
   const Model<double>& model = robot.loaded.model;
   const int n = model.size();
-  const std::string name = cmd == Command::Id ? "id" : cmd == Command::Fd ? "fd" : "crba";
 
   std::string method = "aba";
   if (auto m = opts.get("--method")) {
@@ -327,6 +420,12 @@ int run_dynamics(Command cmd, const cli::Options& opts) {
       for (int i : model.massless_joints()) lock += (lock.empty() ? "" : ",") + model.joint_name(i) + "=0";
       throw InputError(std::string(e.what()) + "; on the command line: --lock " + lock);
     }
+  }
+  if (cmd == Command::Com) {
+    const double mass = model.total_mass() + (robot.floating ? robot.loaded.base_inertia.m : 0.0);
+    if (!(mass > 0))
+      throw InputError(robot.urdf + ": " + (robot.floating ? "the robot has" : "the moving bodies of the model have") +
+                       " no mass, so the centre of mass is undefined");
   }
 
   const Table table = read_table(opts.required("--in"));
@@ -348,6 +447,13 @@ int run_dynamics(Command cmd, const cli::Options& opts) {
     for (int i = 0; i < nv; ++i)
       for (int j = 0; j < nv; ++j)
         out_names.push_back("H:" + robot.v_names[std::size_t(i)] + ":" + robot.v_names[std::size_t(j)]);
+  } else if (cmd == Command::Jacobian) {
+    for (const char* r : kJacobianRows)
+      for (int j = 0; j < nv; ++j) out_names.push_back(std::string("J:") + r + ":" + robot.v_names[std::size_t(j)]);
+  } else if (cmd == Command::Com) {
+    for (const char* r : kComRows) out_names.push_back(std::string("com:") + r);
+    for (const char* r : kComRows)
+      for (int j = 0; j < nv; ++j) out_names.push_back(std::string("Jcom:") + r + ":" + robot.v_names[std::size_t(j)]);
   } else {
     const std::string prefix = cmd == Command::Id ? "tau:" : "qdd:";
     for (int i = 0; i < nv; ++i) out_names.push_back(prefix + robot.v_names[std::size_t(i)]);
@@ -377,13 +483,15 @@ int run_dynamics(Command cmd, const cli::Options& opts) {
       robot.floating ? uio::floating_model(robot.loaded) : FloatingModel<double>(model, Inertia<double>::Zero());
   FloatingData<double> fdata(fmodel);
   Eigen::VectorXd q(nq), qd(nv), x(nv);
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(nv);
+  Eigen::MatrixXd J(cmd == Command::Com ? 3 : 6, nv);
   const auto& qc = cols.of[0];
   const auto& qdc = cols.of[1];
   const auto& xc = cols.of[cmd == Command::Fd ? 3 : 2];
   for (const Line& row : table.rows) {
     check_width(table, row, cols);
     for (int i = 0; i < nq; ++i) q[i] = cell(table, row, cols, qc[static_cast<std::size_t>(i)]);
-    if (cmd != Command::Crba)
+    if (cmd == Command::Id || cmd == Command::Fd)
       for (int i = 0; i < nv; ++i) {
         const auto k = static_cast<std::size_t>(i);
         qd[i] = cell(table, row, cols, qdc[k]);
@@ -407,7 +515,21 @@ int run_dynamics(Command cmd, const cli::Options& opts) {
       out += cli::format_double(v);
       first = false;
     };
-    if (robot.floating) {
+    if (cmd == Command::Jacobian || cmd == Command::Com) {
+      // J: linear rows first (vx vy vz wx wy wz), the velocity coordinates' columns; com: c then J_c.
+      if (cmd == Command::Jacobian) {
+        if (robot.floating) compute_frame_jacobian(fmodel, fdata, q, frame, reference, J);
+        else compute_frame_jacobian(model, data, q, frame, reference, J);
+      } else {
+        const Eigen::Vector3d c = robot.floating ? center_of_mass(fmodel, fdata, q, zero)
+                                                 : center_of_mass(model, data, q, zero);
+        for (int r = 0; r < 3; ++r) put(c[r]);
+        if (robot.floating) com_jacobian(fmodel, fdata, q, J);
+        else com_jacobian(model, data, q, J);
+      }
+      for (int r = 0; r < J.rows(); ++r)
+        for (int j = 0; j < nv; ++j) put(J(r, j));
+    } else if (robot.floating) {
       if (cmd == Command::Id) {
         const auto& tau = rnea(fmodel, fdata, q, qd, x);
         for (int i = 0; i < nv; ++i) put(tau[i]);
@@ -556,7 +678,7 @@ int run_scenes(int argc, char** argv) {
 }
 
 int run(int argc, char** argv) {
-  if (argc < 2) throw UsageError("no subcommand (id, fd, crba, info or scene; try --help)");
+  if (argc < 2) throw UsageError("no subcommand (id, fd, crba, jacobian, com, info or scene; try --help)");
   const std::string sub = argv[1];
   if (sub == "--help" || sub == "-h" || sub == "help") {
     std::cout << kUsage;
@@ -574,8 +696,10 @@ int run(int argc, char** argv) {
   if (sub == "id") cmd = Command::Id;
   else if (sub == "fd") cmd = Command::Fd;
   else if (sub == "crba") cmd = Command::Crba;
+  else if (sub == "jacobian") cmd = Command::Jacobian;
+  else if (sub == "com") cmd = Command::Com;
   else if (sub == "info") cmd = Command::Info;
-  else throw UsageError("unknown subcommand '" + sub + "' (id, fd, crba, info or scene; try --help)");
+  else throw UsageError("unknown subcommand '" + sub + "' (id, fd, crba, jacobian, com, info or scene; try --help)");
   for (int i = 2; i < argc; ++i)
     if (std::string(argv[i]) == "--help" || std::string(argv[i]) == "-h") {
       std::cout << kUsage;
@@ -587,9 +711,12 @@ int run(int argc, char** argv) {
     for (const char* s : {"--in", "--out", "--method"}) with_value.emplace_back(s);
     flags.emplace_back("--echo");
   }
+  if (cmd == Command::Jacobian)
+    for (const char* s : {"--frame", "--reference"}) with_value.emplace_back(s);
   const cli::Options opts(argc, argv, 2, with_value, flags);
   if (cmd == Command::Info) return run_info(opts);
   opts.required("--urdf");
+  if (cmd == Command::Jacobian) opts.required("--frame");
   opts.required("--in");
   return run_dynamics(cmd, opts);
 }
