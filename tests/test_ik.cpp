@@ -416,6 +416,12 @@ TEST(Ik, UnreachableTargetsReportWithoutThrowing) {
   EXPECT_EQ(s.reason, IkReason::MaxIterations);
   EXPECT_EQ(s.iterations, 1);
   EXPECT_LE(s.residual, r0);
+  // More iterations on the same solver (settings change without rebuilding it): converges from there.
+  short_ik.set_max_iterations(200);
+  short_ik.set_tolerance(1e-13);
+  s = short_ik.solve(q4);
+  EXPECT_TRUE(s.converged) << ik_reason_name(s.reason) << " " << s.residual;
+  EXPECT_LE(s.residual, 1e-13);
 }
 
 // Status fields: iterations ≤ max, accepted ≤ iterations, residual = ‖r‖ at the returned q, a start at the target

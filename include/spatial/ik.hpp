@@ -295,7 +295,10 @@ class IkSolver {
   void set_weight(int i, S w) { tasks_[static_cast<std::size_t>(i)].weight = w; }
   void set_axes(int i, const Vector6<S>& axes) { tasks_[static_cast<std::size_t>(i)].axes = axes; }
   const IkOptions<S>& options() const { return opt_; }
-  IkOptions<S>& options_for_tuning() { return opt_; }  ///< iterations, tolerances, damping (not limits' sizes)
+  /// Settings that may change between solves (limits and active coordinates are fixed at construction).
+  void set_max_iterations(int n) { opt_.max_iterations = n; }
+  void set_tolerance(S tol) { opt_.tolerance = tol; }
+  void set_damping(S mu, bool adaptive = true) { opt_.damping = mu, opt_.adaptive = adaptive; }
   /// Rows of the stacked error.
   int rows() const { return m_; }
   /// The weighted stacked error r = W e at the q of the last `solve` (or `residual(q)`), tasks in order.
@@ -310,9 +313,9 @@ class IkSolver {
     return std::sqrt(error(q_, r_));
   }
 
-  /// Moves q (nq; floating: [x y z qx qy qz qw, joints]) towards the tasks' targets; q is read as the start and
-  /// written with the result (the best configuration found, inside the limits, also when not converged). No heap
-  /// allocation, no exception.
+  /// Moves q (nq entries; floating: [x y z qx qy qz qw, joints]) towards the tasks' targets; q is read as the
+  /// start (clamped into the limits) and written with the result (the last accepted configuration: inside the limits,
+  /// with adaptive damping the lowest ‖r‖ found; also when not converged). No heap allocation, no exception.
   template <class Q>
   IkStatus<S> solve(const Eigen::MatrixBase<Q>& q_inout) {
     auto& qio = const_cast<Eigen::MatrixBase<Q>&>(q_inout);
