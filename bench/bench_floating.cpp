@@ -5,6 +5,9 @@
 // compile-time and run-time trees, double. Names "spatial/<algorithm>/floating27/double/<static|runtime>";
 // bench_pinocchio times Pinocchio's free-flyer model of the same robot on the same states (computeJointJacobians,
 // getFrameJacobian, computeFrameJacobian, jacobianCenterOfMass, ccrba).
+// IK_FeetCoM: inverse kinematics (ik.hpp) of both soles' poses and the centre of mass (15 rows, joint limits on)
+// to 1e-12, targets from forward kinematics of a pool state, started from that state perturbed by 0.05 × a pool
+// velocity on the manifold (one whole solve per call).
 #include "bench_common.hpp"
 #include "bench_floating.hpp"
 
@@ -74,10 +77,63 @@ void register_floating(const std::string& tree, const FloatingModel<S, TreeT>& m
   });
 }
 
+/// Targets (both soles, CoM) and perturbed starts for every pool state, and one solver.
+template <class S, class TreeT>
+struct IkFixture {
+  using FM = FloatingModel<S, TreeT>;
+  FM model;
+  FloatingPool<S, FM::NQ, FM::NV> pool;
+  std::vector<Eigen::Matrix<S, FM::NQ, 1>> start;
+  std::vector<Eigen::Transform<S, 3, Eigen::Isometry>> right, left;
+  std::vector<Vector3<S>> com;
+  IkSolver<FM> ik;
+  Eigen::Matrix<S, FM::NQ, 1> q;
+  static IkOptions<S> options() {
+    namespace fb = models::hoap3_floating;
+    IkOptions<S> o;
+    o.lower = ik_limits<S>(fb::lower), o.upper = ik_limits<S>(fb::upper);
+    return o;
+  }
+  explicit IkFixture(const FM& m)
+      : model(m), pool(floating_pool().template cast<S, FM::NQ, FM::NV>()),
+        ik(model,
+           {ik_pose(frame("R_SOLE"), Vector3<S>::Zero(), Matrix3<S>::Identity()),
+            ik_pose(frame("L_SOLE"), Vector3<S>::Zero(), Matrix3<S>::Identity()),
+            ik_center_of_mass(Vector3<S>::Zero())},
+           options()) {
+    FloatingData<S, TreeT> data(model);
+    for (int k = 0; k < pool.size(); ++k) {
+      const auto kk = static_cast<std::size_t>(k);
+      forward_kinematics(model, data, pool.q[kk]);
+      right.push_back(frame_pose(model, data, frame("R_SOLE")));
+      left.push_back(frame_pose(model, data, frame("L_SOLE")));
+      com.push_back(center_of_mass(model, data, pool.q[kk], pool.v[kk] * S(0)));
+      start.push_back(integrate(model, pool.q[kk], pool.v[kk], S(0.05)));
+    }
+  }
+  static int frame(const char* name) { return models::hoap3_floating::frame_index(name); }
+};
+
+template <class S, class TreeT>
+void register_ik(const std::string& tree, const FloatingModel<S, TreeT>& model) {
+  using Fx = IkFixture<S, TreeT>;
+  auto fx = std::make_shared<Fx>(model);
+  register_one(bench_name("spatial", "IK_FeetCoM", "floating27", scalar_name<S>(), tree), fx, [](Fx& f, int k) {
+    const auto kk = static_cast<std::size_t>(k);
+    f.ik.set_target(0, f.right[kk].translation(), f.right[kk].linear());
+    f.ik.set_target(1, f.left[kk].translation(), f.left[kk].linear());
+    f.ik.set_target(2, f.com[kk]);
+    f.q = f.start[kk];
+    benchmark::DoNotOptimize(f.ik.solve(f.q).residual);
+  });
+}
+
 const bool registered = [] {
   add_build_context();
   register_floating<double>("static", floating27());
   register_floating<double>("runtime", floating_to_runtime(floating27()));
+  register_ik<double>("static", floating27());
+  register_ik<double>("runtime", floating_to_runtime(floating27()));
   return true;
 }();
 

@@ -57,6 +57,9 @@ void* or_throw(void* p) {
 }
 }  // namespace
 
+/// The count, for the other nomalloc_*.cpp files of this executable.
+long spatial_nomalloc_new_calls() { return g_new_calls.load(); }
+
 void* operator new(std::size_t n) { return or_throw(counted_alloc(n)); }
 void* operator new[](std::size_t n) { return or_throw(counted_alloc(n)); }
 void* operator new(std::size_t n, const std::nothrow_t&) noexcept { return counted_alloc(n); }

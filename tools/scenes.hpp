@@ -158,69 +158,6 @@ struct SupportPolygon {
 // ---------------------------------------------------------------------------------------------------------------
 // Poses of the whole-body (right-foot stance) model by inverse kinematics
 
-namespace detail {
-
-/// Pose error (position; rotation as the rotation vector of R_target Rᵀ) of fixed frame `frame` of the stance model.
-inline Eigen::Matrix<double, 6, 1> pose_error(const Model<double, stance::Tree>& m, Data<double, stance::Tree>& d,
-                                              const Eigen::VectorXd& q, int frame, const Eigen::Vector3d& p,
-                                              const Eigen::Matrix3d& R) {
-  forward_kinematics(m, d, q);
-  const auto pose = frame_pose(m, d, frame);
-  Eigen::Matrix<double, 6, 1> e;
-  e.head<3>() = p - pose.translation();
-  const Eigen::AngleAxisd aa(Eigen::Matrix3d(R * pose.linear().transpose()));
-  e.tail<3>() = aa.angle() * aa.axis();
-  return e;
-}
-
-/// x with J x = b by Gaussian elimination with partial pivoting (6×6; written out so that no Eigen decomposition is
-/// instantiated here). Throws if J is singular.
-inline Eigen::Matrix<double, 6, 1> solve6(Eigen::Matrix<double, 6, 6> J, Eigen::Matrix<double, 6, 1> b) {
-  for (int c = 0; c < 6; ++c) {
-    int p = c;
-    for (int r = c + 1; r < 6; ++r)
-      if (std::abs(J(r, c)) > std::abs(J(p, c))) p = r;
-    if (J(p, c) == 0) throw std::runtime_error("scenes: singular Jacobian in the inverse kinematics");
-    J.row(c).swap(J.row(p));
-    std::swap(b[c], b[p]);
-    for (int r = c + 1; r < 6; ++r) {
-      const double f = J(r, c) / J(c, c);
-      J.row(r) -= f * J.row(c);
-      b[r] -= f * b[c];
-    }
-  }
-  Eigen::Matrix<double, 6, 1> x;
-  for (int r = 5; r >= 0; --r) {
-    double s = b[r];
-    for (int c = r + 1; c < 6; ++c) s -= J(r, c) * x[c];
-    x[r] = s / J(r, r);
-  }
-  return x;
-}
-
-/// Moves joints `joints` (6 of them) so that `frame` reaches (p, R): Gauss–Newton with a finite-difference
-/// Jacobian, from q. Throws if it does not converge to 1e-12.
-inline void solve_ik(const Model<double, stance::Tree>& m, Data<double, stance::Tree>& d, Eigen::VectorXd& q,
-                     const std::array<int, 6>& joints, int frame, const Eigen::Vector3d& p,
-                     const Eigen::Matrix3d& R) {
-  for (int it = 0; it < 100; ++it) {
-    const Eigen::Matrix<double, 6, 1> e = pose_error(m, d, q, frame, p, R);
-    if (e.norm() < 1e-12) return;
-    Eigen::Matrix<double, 6, 6> J;
-    const double h = 1e-7;
-    for (int c = 0; c < 6; ++c) {
-      Eigen::VectorXd qp = q;
-      qp[joints[static_cast<std::size_t>(c)]] += h;
-      J.col(c) = -(pose_error(m, d, qp, frame, p, R) - e) / h;  // d(pose)/dq
-    }
-    const Eigen::Matrix<double, 6, 1> dq = solve6(J, e);
-    for (int c = 0; c < 6; ++c) q[joints[static_cast<std::size_t>(c)]] += dq[c];
-  }
-  throw std::runtime_error("scenes: inverse kinematics did not converge");
-}
-
-}  // namespace detail
-
 /// Where the whole-body model stands at a via point of the step: the pelvis (frame base_link) level, at height
 /// `pelvis_z`, placed horizontally so that the whole-body centre of mass is over (com_x, com_y); the swing (left)
 /// sole level at (foot_x, foot_y, foot_z); the arms hanging (shoulder pitch kHang) plus a swing angle each;
@@ -231,12 +168,14 @@ struct StancePose {
   double right_arm_swing = 0, left_arm_swing = 0;
 };
 
-/// Joint angles of a `StancePose` (stance model order), by inverse kinematics of the stance leg (pelvis pose) and
-/// of the swing leg (swing sole pose), with an outer iteration that moves the pelvis until the centre of mass is over
-/// the target point.
+/// Joint angles of a `StancePose` (stance model order), by one multi-task inverse kinematics (ik.hpp) over the
+/// twelve leg joints, arms and waist locked: the pelvis frame (base_link) level at height `pelvis_z` (its x and y
+/// free: pose task with axes (0, 0, 1, 1, 1, 1)), the swing sole's pose, and the centre of mass's x and y (axes
+/// (1, 1, 0)). The whole-body centre of mass includes the base (the stance foot, which does not move), while the
+/// library's fixed-base CoM task is over the moving bodies: with M c = M_mov c_mov + h_base, the target c_mov =
+/// (M c − h_base) / M_mov.
 inline Eigen::VectorXd solve_pose(const StancePose& pose) {
   const auto m = stance::model();
-  Data<double, stance::Tree> d(m);
   Eigen::VectorXd q = Eigen::VectorXd::Zero(stance::dof);
   // Initial guess: knees bent forward, so the solver finds the knee-forward branch.
   q[2] = 0.4;
@@ -249,19 +188,23 @@ inline Eigen::VectorXd solve_pose(const StancePose& pose) {
   q[11] = kHang + pose.left_arm_swing;
   const int pelvis = stance::frame_index("base_link"), sole = stance::frame_index("L_SOLE");
   const Eigen::Matrix3d level = Eigen::Matrix3d::Identity();
-  Eigen::Vector3d p(0.0, 0.039, pose.pelvis_z);
-  for (int outer = 0; outer < 100; ++outer) {
-    detail::solve_ik(m, d, q, {0, 1, 2, 3, 4, 5}, pelvis, p, level);
-    detail::solve_ik(m, d, q, {15, 16, 17, 18, 19, 20}, sole, Eigen::Vector3d(pose.foot_x, pose.foot_y, pose.foot_z),
-                     level);
-    Eigen::Matrix<double, stance::dof, 1> qs = q;
-    const Eigen::Vector3d c = stance::whole_body_com(m, d, qs);
-    const Eigen::Vector2d miss(pose.com_x - c.x(), pose.com_y - c.y());
-    if (miss.norm() < 1e-12) return q;
-    p.x() += miss.x();
-    p.y() += miss.y();
-  }
-  throw std::runtime_error("scenes: the centre of mass did not reach its target");
+  const Inertia<double> base = stance::base_inertia<double>();
+  const Eigen::Vector3d com_moving =
+      (stance::whole_body_mass * Eigen::Vector3d(pose.com_x, pose.com_y, 0) - base.h) / stance::moving_mass;
+  IkTask<double> hips = ik_pose(pelvis, Eigen::Vector3d(0.0, 0.039, pose.pelvis_z), level);
+  hips.axes << 0, 0, 1, 1, 1, 1;
+  IkTask<double> com = ik_center_of_mass(com_moving);
+  com.axes << 1, 1, 0, 0, 0, 0;
+  IkOptions<double> opt;
+  opt.active = {0, 1, 2, 3, 4, 5, 15, 16, 17, 18, 19, 20};
+  opt.tolerance = 1e-14;  // tighter than the default: the scenes want the exact pose
+  IkSolver<Model<double, stance::Tree>> ik(
+      m, {hips, ik_pose(sole, Eigen::Vector3d(pose.foot_x, pose.foot_y, pose.foot_z), level), com}, opt);
+  const IkStatus<double> s = ik.solve(q);
+  if (!s.converged)
+    throw std::runtime_error(std::string("scenes: the stance pose was not reached (") + ik_reason_name(s.reason) +
+                             ")");
+  return q;
 }
 
 // ---------------------------------------------------------------------------------------------------------------

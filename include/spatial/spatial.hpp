@@ -14,3 +14,4 @@
 #include "spatial/options.hpp"
 #include "spatial/reduce.hpp"
 #include "spatial/kinematics.hpp"
+#include "spatial/ik.hpp"
