@@ -1,7 +1,7 @@
 #pragma once
 /// \file spatial.hpp
 /// Umbrella header of the spatial library: spatial vector algebra, joints, kinematic trees and the dynamics
-/// algorithms (RNEA, CRBA, LTDL, ABA), input checks. See README.md for the conventions.
+/// algorithms (RNEA, CRBA, LTDL, ABA), input checks, printing (io.hpp). See README.md for the conventions.
 
 #include "spatial/algebra.hpp"
 #include "spatial/joints.hpp"
@@ -11,3 +11,4 @@
 #include "spatial/checks.hpp"
 #include "spatial/options.hpp"
 #include "spatial/reduce.hpp"
+#include "spatial/io.hpp"

@@ -1,0 +1,61 @@
+// The debug size assertion (include/spatial/sizes.hpp): this binary is built without NDEBUG, so every run-time
+// entry point checks its vector arguments and, on a wrong size, aborts with a message that names the function,
+// the argument, its size and the model's. Death tests, on a run-time model and on a compile-time model with
+// dynamic-size vectors (the static_assert for fixed sizes is tested by tests/compile_fail/).
+
+#ifdef NDEBUG
+#error "debug_sizes.cpp must be compiled without NDEBUG"
+#endif
+
+#include <spatial/spatial.hpp>
+#include <spatial/models/hoap3_stance_right.hpp>
+
+#include <gtest/gtest.h>
+
+namespace {
+
+using namespace spatial;
+namespace stance = spatial::models::hoap3_stance_right;
+using Vec = Eigen::VectorXd;
+
+static_assert(SPATIAL_CHECK_SIZES == 1, "the size checks must be on in this binary");
+
+template <class M>
+void expect_size_assertions(const M& model) {
+  Data<double, typename M::tree_type> data(model);
+  const Vec g = Vec::Zero(21), s = Vec::Zero(20), l = Vec::Zero(22);
+  Vec x = s;
+  // The right sizes pass.
+  rnea(model, data, g, g, g);
+  aba(model, data, g, g, g);
+  EXPECT_DEATH(rnea(model, data, s, g, g), "spatial: rnea: argument 'q' has 20 entries, the model has 21 joints");
+  EXPECT_DEATH(rnea(model, data, g, l, g), "spatial: rnea: argument 'qd' has 22 entries, the model has 21 joints");
+  EXPECT_DEATH(rnea(model, data, g, g, s), "spatial: rnea: argument 'qdd' has 20 entries");
+  EXPECT_DEATH(bias_forces(model, data, g, s), "spatial: bias_forces: argument 'qd' has 20 entries");
+  EXPECT_DEATH(gravity_torques(model, data, s), "spatial: gravity_torques: argument 'q' has 20 entries");
+  EXPECT_DEATH(crba(model, data, l), "spatial: crba: argument 'q' has 22 entries");
+  EXPECT_DEATH(forward_kinematics(model, data, s), "spatial: forward_kinematics: argument 'q'");
+  EXPECT_DEATH(forward_velocities(model, data, g, s), "spatial: forward_velocities: argument 'qd'");
+  EXPECT_DEATH(kinetic_energy(model, data, s, g), "spatial: kinetic_energy: argument 'q'");
+  EXPECT_DEATH(potential_energy(model, data, s), "spatial: potential_energy: argument 'q'");
+  EXPECT_DEATH(center_of_mass(model, data, s), "spatial: center_of_mass: argument 'q'");
+  EXPECT_DEATH(forward_dynamics_crba(model, data, g, g, s), "spatial: forward_dynamics_crba: argument 'tau'");
+  EXPECT_DEATH(aba(model, data, g, g, l), "spatial: aba: argument 'tau' has 22 entries");
+  EXPECT_DEATH(ltdl_solve(model, data, x), "spatial: ltdl_solve: argument 'x' has 20 entries");
+  EXPECT_DEATH(rnea<Dyn::Static>(model, data, s, g, g), "spatial: rnea: argument 'q' has 20 entries");
+  EXPECT_DEATH(aba<Dyn::Static>(model, data, g, g, s), "spatial: aba: argument 'tau' has 20 entries");
+  EXPECT_DEATH(forward_dynamics_crba<Dyn::Velocity>(model, data, s, g, g),
+               "spatial: forward_dynamics_crba: argument 'q' has 20 entries");
+}
+
+TEST(DebugSizes, RunTimeModelAborts) {
+  ::testing::FLAGS_gtest_death_test_style = "threadsafe";
+  expect_size_assertions(lock_joints(stance::model(), {}).model);
+}
+
+TEST(DebugSizes, CompileTimeModelWithDynamicVectorsAborts) {
+  ::testing::FLAGS_gtest_death_test_style = "threadsafe";
+  expect_size_assertions(stance::model());
+}
+
+}  // namespace
