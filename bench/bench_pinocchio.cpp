@@ -9,11 +9,16 @@
 // Before any timing, Pinocchio's results are compared with spatial's on the first 32 pool states and the program
 // aborts on a mismatch (double: τ, G, C, H and poses ≤ 1e-12 relative, q̈ ≤ 1e-10; float against spatial's double:
 // ≤ 1e-3).
+#include "bench_floating.hpp"
 #include "bench_models.hpp"
 #include "peers/peer_check.hpp"
 #include "peers/pinocchio_peer.hpp"
 
 #include <pinocchio/algorithm/aba.hpp>
+#include <pinocchio/algorithm/center-of-mass.hpp>
+#include <pinocchio/algorithm/centroidal.hpp>
+#include <pinocchio/algorithm/frames.hpp>
+#include <pinocchio/algorithm/jacobian.hpp>
 #include <pinocchio/algorithm/cholesky.hpp>
 #include <pinocchio/algorithm/crba.hpp>
 #include <pinocchio/algorithm/kinematics.hpp>
@@ -142,6 +147,127 @@ void register_pinocchio(const BenchModel<TreeT>& entry) {
   });
 }
 
+// ---- floating27: Pinocchio's free-flyer model of the HOAP-3 on the same states as bench_floating ----
+struct FloatingPinFixture {
+  FloatingPinocchioPeer<double> peer;
+  pinocchio::DataTpl<double> data;
+  std::vector<Eigen::VectorXd> q, v, u;  // in Pinocchio's order
+  pinocchio::Data::Matrix6x J;            // frame Jacobian output
+  pinocchio::FrameIndex frame = 0;        // the left sole (bench_floating.hpp's floating27_frame)
+  int next = 0;
+  explicit FloatingPinFixture(FloatingPinocchioPeer<double> p)
+      : peer(std::move(p)), data(peer.tree.model), J(6, peer.tree.model.nv) {
+    J.setZero();
+  }
+  int take() {
+    next = next + 1 == static_cast<int>(q.size()) ? 0 : next + 1;
+    return next;
+  }
+};
+
+void register_pinocchio_floating() {
+  const auto& model = floating27();
+  auto fx = std::make_shared<FloatingPinFixture>(make_pinocchio_floating_peer(model));
+  const auto& pool = floating_pool();
+  for (int k = 0; k < pool.size(); ++k) {
+    const auto s = static_cast<std::size_t>(k);
+    fx->q.push_back(fx->peer.to_pinocchio(pool.q[s], 7));
+    fx->v.push_back(fx->peer.to_pinocchio(pool.v[s], 6));
+    fx->u.push_back(fx->peer.to_pinocchio(pool.u[s], 6));
+  }
+  const auto& pm = fx->peer.tree.model;
+  const int frame = floating27_frame();
+  fx->frame = pm.getFrameId(std::string(models::hoap3_floating::frame_names[static_cast<std::size_t>(frame)]));
+  // The check: RNEA τ (root wrench included), CRBA H, ABA v̇, the sole's Jacobian in the three frames (from the
+  // joint Jacobians and in one walk), the CoM Jacobian and A_G on the first 32 states.
+  FloatingData<double, Floating27Tree> data(model);
+  PeerCheck tau{"Pinocchio rnea tau (double) on floating27", 1e-12},
+      mass{"Pinocchio crba H (upper triangle) (double) on floating27", 1e-12},
+      fd{"Pinocchio aba qdd (double) on floating27", 1e-10},
+      jac{"Pinocchio getFrameJacobian L_SOLE LOCAL/WORLD/LOCAL_WORLD_ALIGNED (double) on floating27", 1e-12},
+      cjac{"Pinocchio computeFrameJacobian L_SOLE LOCAL/WORLD/LOCAL_WORLD_ALIGNED (double) on floating27", 1e-12},
+      jcom{"Pinocchio jacobianCenterOfMass (double) on floating27", 1e-12},
+      ag{"Pinocchio ccrba A_G (double) on floating27", 1e-12};
+  const std::pair<pinocchio::ReferenceFrame, ReferenceFrame> frames[] = {
+      {pinocchio::LOCAL, ReferenceFrame::Local},
+      {pinocchio::WORLD, ReferenceFrame::World},
+      {pinocchio::LOCAL_WORLD_ALIGNED, ReferenceFrame::LocalWorldAligned}};
+  Eigen::Matrix<double, 6, 27> J, Ag;
+  Eigen::Matrix<double, 3, 27> Jc;
+  using VQ = Eigen::Matrix<double, 28, 1>;
+  using VV = Eigen::Matrix<double, 27, 1>;
+  for (int k = 0; k < 32; ++k) {
+    const auto s = static_cast<std::size_t>(k);
+    const VQ q = pool.q[s];
+    const VV v = pool.v[s], u = pool.u[s];
+    tau.compare(fx->peer.from_pinocchio(pinocchio::rnea(pm, fx->data, fx->q[s], fx->v[s], fx->u[s])),
+                rnea(model, data, q, v, u));
+    Eigen::MatrixXd M = pinocchio::crba(pm, fx->data, fx->q[s]);
+    M.triangularView<Eigen::StrictlyLower>() = M.transpose().triangularView<Eigen::StrictlyLower>();
+    mass.compare(fx->peer.from_pinocchio_matrix(M), crba(model, data, q));
+    fd.compare(fx->peer.from_pinocchio(pinocchio::aba(pm, fx->data, fx->q[s], fx->v[s], fx->u[s])),
+               aba(model, data, q, v, u));
+    pinocchio::computeJointJacobians(pm, fx->data, fx->q[s]);
+    compute_joint_jacobians(model, data, q);
+    for (const auto& [prf, rf] : frames) {
+      Eigen::MatrixXd Jp = Eigen::MatrixXd::Zero(6, pm.nv);
+      pinocchio::getFrameJacobian(pm, fx->data, fx->frame, prf, Jp);
+      frame_jacobian(model, data, frame, rf, J);
+      jac.compare(fx->peer.from_pinocchio_columns(Jp), J);
+    }
+    for (const auto& [prf, rf] : frames) {
+      Eigen::MatrixXd Jp = Eigen::MatrixXd::Zero(6, pm.nv);
+      pinocchio::computeFrameJacobian(pm, fx->data, fx->q[s], fx->frame, prf, Jp);
+      compute_frame_jacobian(model, data, q, frame, rf, J);
+      cjac.compare(fx->peer.from_pinocchio_columns(Jp), J);
+    }
+    com_jacobian(model, data, q, Jc);
+    jcom.compare(fx->peer.from_pinocchio_columns(pinocchio::jacobianCenterOfMass(pm, fx->data, fx->q[s])), Jc);
+    centroidal_momentum_matrix(model, data, q, Ag);
+    ag.compare(fx->peer.from_pinocchio_columns(pinocchio::ccrba(pm, fx->data, fx->q[s], fx->v[s])), Ag);
+  }
+  for (const PeerCheck* c : {&tau, &mass, &fd, &jac, &cjac, &jcom, &ag}) c->report();
+
+  using Fx = FloatingPinFixture;
+  const auto reg = [&](const char* algorithm, auto body) {
+    const std::string name = bench_name("pinocchio", algorithm, "floating27", "double", "-");
+    benchmark::RegisterBenchmark(name.c_str(), [fx, body](benchmark::State& st) {
+      Fx& f = *fx;
+      for (auto _ : st) body(f, static_cast<std::size_t>(f.take()));
+    });
+  };
+  reg("RNEA", [](Fx& f, std::size_t k) {
+    benchmark::DoNotOptimize(pinocchio::rnea(f.peer.tree.model, f.data, f.q[k], f.v[k], f.u[k]).data());
+  });
+  reg("CRBA", [](Fx& f, std::size_t k) {
+    benchmark::DoNotOptimize(pinocchio::crba(f.peer.tree.model, f.data, f.q[k]).data());
+  });
+  reg("ABA", [](Fx& f, std::size_t k) {
+    benchmark::DoNotOptimize(pinocchio::aba(f.peer.tree.model, f.data, f.q[k], f.v[k], f.u[k]).data());
+  });
+  reg("JointJacobians", [](Fx& f, std::size_t k) {
+    benchmark::DoNotOptimize(pinocchio::computeJointJacobians(f.peer.tree.model, f.data, f.q[k]).data());
+  });
+  // getFrameJacobian after computeJointJacobians (bench_floating: frame_jacobian after compute_joint_jacobians).
+  pinocchio::computeJointJacobians(pm, fx->data, fx->q[0]);
+  reg("FrameJacobian", [](Fx& f, std::size_t) {
+    pinocchio::getFrameJacobian(f.peer.tree.model, f.data, f.frame, pinocchio::LOCAL_WORLD_ALIGNED, f.J);
+    benchmark::DoNotOptimize(f.J.data());
+    benchmark::ClobberMemory();
+  });
+  reg("ComputeFrameJacobian", [](Fx& f, std::size_t k) {
+    pinocchio::computeFrameJacobian(f.peer.tree.model, f.data, f.q[k], f.frame, pinocchio::LOCAL_WORLD_ALIGNED, f.J);
+    benchmark::DoNotOptimize(f.J.data());
+    benchmark::ClobberMemory();
+  });
+  reg("ComJacobian", [](Fx& f, std::size_t k) {
+    benchmark::DoNotOptimize(pinocchio::jacobianCenterOfMass(f.peer.tree.model, f.data, f.q[k], false).data());
+  });
+  reg("CentroidalMatrix", [](Fx& f, std::size_t k) {
+    benchmark::DoNotOptimize(pinocchio::ccrba(f.peer.tree.model, f.data, f.q[k], f.v[k]).data());
+  });
+}
+
 const bool registered = [] {
   benchmark::AddCustomContext("pinocchio_version", PINOCCHIO_VERSION);
   benchmark::AddCustomContext("spatial_eigen", std::to_string(EIGEN_WORLD_VERSION) + "." +
@@ -155,6 +281,7 @@ const bool registered = [] {
 #elif defined(__GNUC__)
   benchmark::AddCustomContext("spatial_compiler", std::string("gcc ") + __VERSION__);
 #endif
+  register_pinocchio_floating();
   for_each_bench_model([](const auto& entry) {
     register_pinocchio<double>(entry);
 #ifdef SPATIAL_PINOCCHIO_FLOAT

@@ -288,6 +288,115 @@ TEST(NoMalloc, CompileTimeModelWithDynamicInputs) {
   EXPECT_TRUE(std::isfinite(sum));
 }
 
+// kinematics.hpp on fixed and floating bases: Jacobians, J̇, drifts, velocities and accelerations in the three
+// reference frames, into a preallocated 6 × nv matrix (`frame` < 0: the model has no frame).
+template <class M, class D, class Q, class V, class Out>
+double run_kinematics(const M& model, D& d, const Q& q, const V& v, const V& a, Out& J, int body, int frame) {
+  double sum = compute_joint_jacobians(model, d, q).sum();
+  sum += compute_joint_jacobians_time_variation(model, d, q, v).sum();
+  for (ReferenceFrame rf : {ReferenceFrame::Local, ReferenceFrame::World, ReferenceFrame::LocalWorldAligned}) {
+    body_jacobian(model, d, body, rf, J);
+    sum += J.sum();
+    body_jacobian_time_variation(model, d, body, rf, J);
+    sum += J.sum();
+    compute_body_jacobian(model, d, q, body, rf, J);
+    sum += J.sum();
+    if (frame >= 0) {
+      frame_jacobian(model, d, frame, rf, J);
+      sum += J.sum();
+      frame_jacobian_time_variation(model, d, frame, rf, J);
+      sum += J.sum();
+      compute_frame_jacobian(model, d, q, frame, rf, J);
+      sum += J.sum();
+      sum += frame_jdot_qdot(model, d, q, v, frame, rf).v.sum() + frame_classical_jdot_qdot(model, d, q, v, frame, rf).sum();
+    }
+    forward_kinematics(model, d, q, v, a);
+    sum += body_velocity(model, d, body, rf).w.sum() + body_acceleration(model, d, body, rf).v.sum() +
+           body_classical_acceleration(model, d, body, rf).sum();
+    if (frame >= 0)
+      sum += frame_velocity(model, d, frame, rf).v.sum() + frame_acceleration(model, d, frame, rf).w.sum() +
+             frame_classical_acceleration(model, d, frame, rf).sum();
+  }
+  return sum;
+}
+
+// centroidal.hpp on fixed and floating bases: CoM with velocity and acceleration, subtree CoM, CoM Jacobians, A_G,
+// h_G, ḣ_G, I_G, into preallocated 3 × nv and 6 × nv matrices.
+template <class M, class D, class Q, class V, class J3, class J6>
+double run_centroidal(const M& model, D& d, const Q& q, const V& v, const V& a, J3& Jc, J6& Ag, int body) {
+  double sum = center_of_mass(model, d, q, v, a).sum() + d.vcom.sum() + d.acom.sum();
+  sum += subtree_center_of_mass(model, d, q, body).com.sum();
+  com_jacobian(model, d, q, Jc);
+  sum += Jc.sum();
+  subtree_com_jacobian(model, d, q, body, Jc);
+  sum += Jc.sum();
+  centroidal_momentum_matrix(model, d, q, Ag);
+  sum += Ag.sum() + centroidal_momentum(model, d, q, v).sum();
+  const auto r = centroidal_momentum_time_variation(model, d, q, v, a);
+  sum += r.dhg.sum() + r.dAg_v.sum() + centroidal_composite_inertia(model, d, q).sum();
+  return sum;
+}
+
+TEST(NoMalloc, Kinematics) {
+  // Run-time fixed and floating bases with a frame, and the compile-time Tree8 on a floating base.
+  ModelBuilder<double> b;
+  const auto bodies = spatial::testing::random_bodies(9, spatial::testing::Shape::Branched, 8);
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    const auto& r = bodies[i];
+    b.add_body("body" + std::to_string(i), r.parent, r.type, r.X_tree,
+               Inertia<double>::from_com(r.mass, r.com, r.inertia_com), r.axis);
+  }
+  b.add_fixed_body("tool", 8, xlt(V3(0.1, 0, 0)), Inertia<double>::from_com(0.2, V3::Zero(), Matrix3<double>::Zero()));
+  const Model<double> model = b.build();
+  const Inertia<double> I0 = Inertia<double>::from_com(2.0, V3(0.1, 0, 0), 0.1 * Matrix3<double>::Identity());
+  const FloatingModel<double> fmodel(model, I0);
+  auto bodies8 = spatial::testing::random_bodies(8, spatial::testing::Shape::Chain, 6);
+  for (int i = 0; i < 8; ++i) {
+    auto& r = bodies8[static_cast<std::size_t>(i)];
+    r.parent = Tree8::parent[static_cast<std::size_t>(i)];
+    r.type = Tree8::joint[static_cast<std::size_t>(i)];
+    if (r.type == J::RevoluteX || r.type == J::PrismaticX) r.axis = V3::UnitX();
+    if (r.type == J::RevoluteY || r.type == J::PrismaticY) r.axis = V3::UnitY();
+    if (r.type == J::RevoluteZ || r.type == J::PrismaticZ) r.axis = V3::UnitZ();
+  }
+  const FloatingModel<double, Tree8> cmodel(Model<double, Tree8>::from(spatial::testing::build_model(bodies8)), I0);
+  Data<double> d(model);
+  FloatingData<double> fd(fmodel);
+  FloatingData<double, Tree8> cd(cmodel);
+  std::mt19937 rng(4);
+  const Vec q = spatial::testing::random_vector(9, rng), v = spatial::testing::random_vector(9, rng),
+            a = spatial::testing::random_vector(9, rng);
+  Vec fq = spatial::testing::random_vector(fmodel.nq(), rng);
+  fq.segment<4>(3).normalize();
+  const Vec fv = spatial::testing::random_vector(fmodel.nv(), rng), fa = spatial::testing::random_vector(fmodel.nv(), rng);
+  using Q8 = FloatingModel<double, Tree8>::ConfigVector;
+  using V8 = FloatingModel<double, Tree8>::TangentVector;
+  Q8 cq = spatial::testing::random_vector(15, rng);
+  cq.segment<4>(3).normalize();
+  const V8 cv = spatial::testing::random_vector(14, rng), ca = spatial::testing::random_vector(14, rng);
+  Eigen::MatrixXd J(6, 9), fJ(6, 15);
+  Eigen::Matrix<double, 6, 14> cJ;
+  Eigen::MatrixXd J3(3, 9), fJ3(3, 15);
+  Eigen::Matrix<double, 3, 14> cJ3;
+  double sum = 0;
+  long news = 0;
+  {
+    NoAllocationRegion guard;
+    sum += run_kinematics(model, d, q, v, a, J, 8, 0);
+    sum += run_kinematics(model, d, q, v, a, J, -1, 0);
+    sum += run_kinematics(fmodel, fd, fq, fv, fa, fJ, 8, 0);
+    sum += run_kinematics(fmodel, fd, fq, fv, fa, fJ, -1, 0);
+    sum += run_kinematics(cmodel, cd, cq, cv, ca, cJ, 7, -1);
+    sum += run_centroidal(model, d, q, v, a, J3, J, 4);
+    sum += run_centroidal(fmodel, fd, fq, fv, fa, fJ3, fJ, 4);
+    sum += run_centroidal(cmodel, cd, cq, cv, ca, cJ3, cJ, 3);
+    news = guard.new_calls();
+  }
+  g_sink = sum;
+  EXPECT_EQ(news, 0) << "operator new was called inside the kinematics";
+  EXPECT_TRUE(std::isfinite(sum));
+}
+
 // ---- the guards themselves ---------------------------------------------------------------------------------
 
 TEST(NoMallocGuard, EigenAllocationInsideTheRegionAborts) {

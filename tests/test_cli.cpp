@@ -1,7 +1,8 @@
 // The command-line tool spatial-dyn (tools/spatial_dyn.cpp), run as a separate process on CSV files: each
 // subcommand against the library, the id -> fd round trip through files, the CSV rules (column order, extra
 // columns, columns of locked joints, stdin/stdout) and every error case (non-zero exit, one line naming the row and
-// column). The binary's path comes from CMake (SPATIAL_DYN_EXE).
+// column), and the inertia warnings of spatial-dyn and spatial-gen. The binaries' paths come from CMake
+// (SPATIAL_DYN_EXE, SPATIAL_GEN_EXE).
 
 #include <gtest/gtest.h>
 
@@ -14,6 +15,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <random>
 #include <string>
 #include <vector>
@@ -429,6 +431,78 @@ TEST_F(CliErrors, BadCommandLines) {
   EXPECT_EQ(help.status, 0);
   EXPECT_NE(help.out.find("spatial-dyn id"), std::string::npos);
 }
+
+// A link inertia breaking the triangle inequality (CAD exports): a warning line on stderr and the work done;
+// --strict-inertia refuses the file (status 1, one line naming the link).
+TEST_F(CliErrors, TriangleInequalityWarnsAndStrictInertiaRefuses) {
+  const std::string urdf = dir_.file("imperfect.urdf");
+  std::ofstream(urdf) << R"(<robot name="t"><link name="a"/>
+    <link name="foot"><inertial><origin xyz="0.1 0 0"/><mass value="2"/>
+      <inertia ixx="0.3" ixy="0" ixz="0" iyy="0.5" iyz="0" izz="1.0"/></inertial></link>
+    <joint name="ankle" type="revolute"><parent link="a"/><child link="foot"/><axis xyz="0 1 0"/>
+      <limit lower="-1" upper="1" effort="3" velocity="4"/></joint></robot>)";
+  Csv c;
+  c.header = {"q:ankle", "qd:ankle", "qdd:ankle"};
+  c.rows = {{"0.1", "0.2", "0.3"}};
+  c.write(dir_.file("in.csv"));
+  const std::string warning = "spatial-dyn: warning: " + urdf +
+                              ": link 'foot': principal moments violate the triangle inequality: I1 + I2 = 0.8 < I3 = "
+                              "1 kg m^2 (short by 0.2, 20 %)\n";
+  const RunResult id = dyn({"id", "--urdf", urdf, "--in", dir_.file("in.csv")});
+  EXPECT_EQ(id.status, 0) << id.err;
+  EXPECT_EQ(id.err, warning);
+  const Csv out = parse_csv(id.out);
+  const uio::LoadedModel m = uio::load_file(urdf);
+  ASSERT_EQ(m.warnings.size(), 1u);
+  Data<double> d(m.model);
+  const Eigen::VectorXd q = Eigen::VectorXd::Constant(1, 0.1), qd = Eigen::VectorXd::Constant(1, 0.2),
+                        qdd = Eigen::VectorXd::Constant(1, 0.3);
+  EXPECT_EQ(out.number(0, "tau:ankle"), rnea(m.model, d, q, qd, qdd)[0]);
+  const RunResult info = dyn({"info", "--urdf", urdf});
+  EXPECT_EQ(info.status, 0) << info.err;
+  EXPECT_EQ(info.err, warning);
+
+  for (const auto& args : std::vector<std::vector<std::string>>{
+           {"id", "--urdf", urdf, "--in", dir_.file("in.csv"), "--strict-inertia"},
+           {"info", "--strict-inertia", "--urdf", urdf}}) {
+    const RunResult r = dyn(args);
+    expect_one_line_error(r, {urdf + ": link 'foot': principal moments violate the triangle inequality", "short by 0.2"});
+    EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
+  }
+  // Files that are fine: no warning, with or without --strict-inertia.
+  for (const bool strict : {false, true}) {
+    std::vector<std::string> args = {"info", "--urdf", urdf_path("double_pendulum.urdf")};
+    if (strict) args.emplace_back("--strict-inertia");
+    const RunResult r = dyn(args);
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_TRUE(r.err.empty()) << r.err;
+  }
+  expect_one_line_error(dyn({"info", "--urdf", urdf, "--strict-inertia=yes"}), {"--strict-inertia takes no value"}, 2);
+  EXPECT_NE(dyn({"--help"}).out.find("--strict-inertia"), std::string::npos);
+}
+
+#ifdef SPATIAL_GEN_EXE
+// spatial-gen loads through the same loader: the same warning on stderr (the header is written), and the same
+// refusal with --strict-inertia (nothing written).
+TEST_F(CliErrors, GeneratorPrintsTheWarningAndStrictInertiaRefuses) {
+  const std::string urdf = urdf_path("test/bad/triangle.urdf"), out = dir_.file("tri.hpp");
+  const RunResult ok = spatial::testing::run_program(SPATIAL_GEN_EXE, {"--urdf", urdf, "--name", "tri", "--out", out});
+  EXPECT_EQ(ok.status, 0) << ok.err;
+  EXPECT_EQ(ok.err.rfind("spatial-gen: warning: " + urdf + ": link 'b': principal moments violate the triangle "
+                         "inequality: I1 + I2 = 0.02 < I3 = 0.03 kg m^2 (short by 0.01, 33.3 %)\n",
+                         0),
+            0u)
+      << ok.err;
+  EXPECT_EQ(std::count(ok.err.begin(), ok.err.end(), '\n'), 1) << ok.err;
+  EXPECT_TRUE(std::filesystem::exists(out));
+  std::filesystem::remove(out);
+  const RunResult strict = spatial::testing::run_program(
+      SPATIAL_GEN_EXE, {"--urdf", urdf, "--name", "tri", "--out", out, "--strict-inertia"});
+  EXPECT_EQ(strict.status, 1);
+  EXPECT_EQ(strict.err.rfind("spatial-gen: " + urdf + ": link 'b': principal moments violate", 0), 0u) << strict.err;
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+#endif
 
 #else
 TEST(Cli, Skipped) { GTEST_SKIP() << "spatial-dyn is not built (SPATIAL_BUILD_TOOLS or SPATIAL_WITH_URDF off)"; }

@@ -28,6 +28,7 @@
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <functional>
@@ -498,6 +499,7 @@ void expect_unchanged(const ModelBuilder<double>& b, const Model<double>& before
 
 TEST(ModelBuilder, RejectsBadInputNamingTheBody) {
   ModelBuilder<double> b;
+  b.set_strict_inertia(true);  // the triangle inequality case below is refused only in strict mode
   b.add_body("root", -1, J::RevoluteZ, Transform<double>::Identity(), good_inertia());
   b.add_body("arm", 0, J::RevoluteY, xlt(V3(0, 0, 0.3)), good_inertia());
   const Model<double> before = b.build();
@@ -604,6 +606,89 @@ TEST(ModelBuilder, AcceptsEdgeCasesOfPhysicalInertia) {
                              Inertia<double>::from_com(1.0, V3::Zero(), rod)));
   EXPECT_NO_THROW(b.add_body("ghost", 1, J::RevoluteY, Transform<double>::Identity(), Inertia<double>::Zero()));
   EXPECT_EQ(b.build().massless_joints(), std::vector<int>({2}));
+}
+
+// Principal moments breaking the triangle inequality (CAD exports of published robots): accepted with a warning
+// naming the body and the shortfall by default, refused in strict mode; what breaks the algorithms is refused in
+// both modes; inertias that are fine give no warning.
+TEST(ModelBuilder, TriangleInequalityWarnsByDefaultAndIsRefusedWhenStrict) {
+  M3 triangle = M3::Zero();
+  triangle.diagonal() << 0.3, 0.5, 1.0;  // I1 + I2 = 0.8 < I3 = 1: short by 0.2, 20 %
+  const Inertia<double> bad = Inertia<double>::from_com(2.0, V3(0.1, 0, 0), triangle);
+  M3 nonpsd = M3::Zero();
+  nonpsd.diagonal() << -0.05, 0.5, 0.5;
+  const Transform<double> I6 = Transform<double>::Identity();
+
+  ModelBuilder<double> lenient;
+  EXPECT_FALSE(lenient.strict_inertia());
+  lenient.add_body("root", -1, J::RevoluteZ, I6, good_inertia());
+  EXPECT_TRUE(lenient.warnings().empty());
+  EXPECT_EQ(lenient.add_body("hand", 0, J::RevoluteX, I6, bad, V3::Zero(), "wrist"), 1);
+  ASSERT_EQ(lenient.warnings().size(), 1u);
+  const std::string w = lenient.warnings()[0];
+  for (const char* s : {"body 'hand' (joint 'wrist'): ", "triangle inequality", "I1 + I2 = 0.8", "I3 = 1 kg m^2",
+                        "short by 0.2", "20 %"})
+    EXPECT_NE(w.find(s), std::string::npos) << "'" << s << "' not in: " << w;
+  lenient.add_fixed_body("tool", 1, xlt(V3(0, 0, 0.1)), bad);
+  ASSERT_EQ(lenient.warnings().size(), 2u);
+  EXPECT_EQ(lenient.warnings()[1].rfind("fixed body 'tool': principal moments violate", 0), 0u) << lenient.warnings()[1];
+  // The inertia is kept as given (the fixed body merged exactly), and the algorithms run on it.
+  const Model<double> m = lenient.build();
+  EXPECT_EQ(m.inertia(1).m, 4.0);
+  Data<double> d(m);
+  const Eigen::VectorXd q = Eigen::VectorXd::Constant(2, 0.3);
+  EXPECT_TRUE(crba(m, d, q).allFinite());
+  EXPECT_GT(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(d.H).eigenvalues().minCoeff(), 0.0);
+  // Refused in both modes, warnings untouched.
+  EXPECT_THROW(lenient.add_body("x", 0, J::RevoluteX, I6, Inertia<double>::from_com(1.0, V3::Zero(), nonpsd)), ModelError);
+  EXPECT_THROW(lenient.add_body("x", 0, J::RevoluteX, I6, Inertia<double>::from_com(-1.0, V3::Zero(), M3::Identity())),
+               ModelError);
+  EXPECT_EQ(lenient.warnings().size(), 2u);
+  EXPECT_EQ(lenient.size(), 2);
+
+  ModelBuilder<double> strict;
+  strict.set_strict_inertia(true);
+  EXPECT_TRUE(strict.strict_inertia());
+  strict.add_body("root", -1, J::RevoluteZ, I6, good_inertia());
+  for (const auto& call : std::vector<std::function<void()>>{
+           [&] { strict.add_body("hand", 0, J::RevoluteX, I6, bad, V3::Zero(), "wrist"); },
+           [&] { strict.add_fixed_body("hand", 0, I6, bad); }}) {
+    try {
+      call();
+      ADD_FAILURE() << "strict builder accepted a triangle-inequality violation";
+    } catch (const ModelError& e) {
+      const std::string msg = e.what();
+      EXPECT_NE(msg.find("'hand'"), std::string::npos) << msg;
+      EXPECT_NE(msg.find("triangle inequality"), std::string::npos) << msg;
+      EXPECT_NE(msg.find("short by 0.2"), std::string::npos) << msg;
+    }
+  }
+  EXPECT_THROW(strict.add_body("x", 0, J::RevoluteX, I6, Inertia<double>::from_com(1.0, V3::Zero(), nonpsd)), ModelError);
+  EXPECT_EQ(strict.size(), 1);
+  EXPECT_TRUE(strict.warnings().empty());
+}
+
+// Model::from_arrays (the generated models) accepts the same inertias as a default ModelBuilder, with the same
+// warnings when asked for them.
+TEST(ModelBuilder, FromArraysWarnsLikeTheBuilder) {
+  using T2 = Tree<Parents<-1, 0>, Joints<J::RevoluteZ, J::RevoluteY>>;
+  using M2 = Model<double, T2>;
+  M3 triangle = M3::Zero();
+  triangle.diagonal() << 0.3, 0.5, 1.0;
+  const std::array<Transform<double>, 2> X{Transform<double>::Identity(), xlt(V3(0, 0, 0.3))};
+  const std::array<Inertia<double>, 2> I{good_inertia(), Inertia<double>::from_com(1.0, V3::Zero(), triangle)};
+  const std::array<V3, 2> axis{V3::UnitZ(), V3::UnitY()};
+  const std::array<std::string, 2> bodies{"a", "b"}, joints{"ja", "jb"};
+  std::vector<std::string> warnings;
+  const auto m = M2::from_arrays(X, I, axis, bodies, joints, V3(0, 0, -9.81), {}, 0.0, &warnings);
+  EXPECT_EQ(m.inertia(1).I, I[1].I);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_EQ(warnings[0].rfind("body 1 'b' (joint 'jb'): principal moments violate the triangle inequality", 0), 0u)
+      << warnings[0];
+  EXPECT_NO_THROW((void)M2::from_arrays(X, I, axis, bodies, joints, V3(0, 0, -9.81)));
+  std::array<Inertia<double>, 2> neg = I;
+  neg[1].m = -1.0;
+  EXPECT_THROW((void)M2::from_arrays(X, neg, axis, bodies, joints, V3(0, 0, -9.81)), ModelError);
 }
 
 // The builder's rigid-transform check must use a tolerance suited to the scalar: a float rotation is orthonormal

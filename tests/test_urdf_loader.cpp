@@ -582,7 +582,9 @@ TEST(UrdfErrors, BadFiles) {
   expect_error(bad + "unknown_type.urdf", {"[j]", "spherical"});
   expect_error(bad + "negative_mass.urdf", {"link 'b'", "negative mass", "-0.5"});
   expect_error(bad + "not_psd.urdf", {"link 'b'", "positive semi-definite"});
-  expect_error(bad + "triangle.urdf", {"link 'b'", "triangle inequality"});
+  uio::LoadOptions strict;
+  strict.strict_inertia = true;  // by default this file loads with a warning (UrdfInertia below)
+  expect_error(bad + "triangle.urdf", {"link 'b'", "triangle inequality"}, strict);
   expect_error(bad + "nan_mass.urdf", {"[b]", "mass [nan]"});
   expect_error(bad + "inf_inertia.urdf", {"[b]", "ixx"});
   expect_error(bad + "inf_origin.urdf", {"[j]", "inf"});
@@ -591,6 +593,127 @@ TEST(UrdfErrors, BadFiles) {
   expect_error(bad + "missing_link.urdf", {"[ghost]", "[j]"});
   expect_error(bad + "mimic.urdf", {"joint 'j2'", "mimic", "not supported"});
   expect_error(bad + "inverted_limits.urdf", {"joint 'j'", "lower limit is above the upper limit"});
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Imperfect inertias of published robots: principal moments breaking the triangle inequality load with a warning
+// (or are refused with LoadOptions::strict_inertia); what breaks the algorithms is refused in both modes.
+
+/// Links a (root), foot (moved by joint 'ankle', inertia as given) and sensor (fixed on foot, inertia as given).
+std::string imperfect_robot(const std::string& foot_inertia, const std::string& foot_mass = "2",
+                            const std::string& sensor_inertia = R"(ixx="0.01" iyy="0.01" izz="0.01")") {
+  return R"(<robot name="t"><link name="a"/>
+    <link name="foot"><inertial><origin xyz="0.1 0 0" rpy="0.2 0.3 0.4"/><mass value=")" + foot_mass + R"("/>
+      <inertia )" + foot_inertia + R"( ixy="0" ixz="0" iyz="0"/></inertial></link>
+    <link name="sensor"><inertial><mass value="0.5"/><inertia )" + sensor_inertia + R"( ixy="0" ixz="0" iyz="0"/>
+      </inertial></link>
+    <joint name="ankle" type="revolute"><parent link="a"/><child link="foot"/><origin xyz="0 0 0.2"/>
+      <axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="3" velocity="4"/></joint>
+    <joint name="mount" type="fixed"><parent link="foot"/><child link="sensor"/><origin xyz="0 0 -0.05"/></joint>
+    </robot>)";
+}
+const char* kTriangle = R"(ixx="0.3" iyy="0.5" izz="1.0")";  // I1 + I2 = 0.8 < I3 = 1: short by 0.2, 20 %
+const char* kFine = R"(ixx="0.3" iyy="0.5" izz="0.7")";
+
+uio::LoadOptions strict_inertia() {
+  uio::LoadOptions o;
+  o.strict_inertia = true;
+  return o;
+}
+
+TEST(UrdfInertia, TriangleInequalityLoadsWithOneWarningNamingTheLinkAndTheAmount) {
+  const auto m = uio::load_string(imperfect_robot(kTriangle), {}, "robot.urdf");
+  ASSERT_EQ(m.warnings.size(), 1u);
+  const std::string& w = m.warnings[0];
+  EXPECT_EQ(w.rfind("robot.urdf: link 'foot': principal moments violate the triangle inequality: ", 0), 0u) << w;
+  for (const char* s : {"I1 + I2 = 0.8 < I3 = 1 kg m^2", "short by 0.2", "20 %"})
+    EXPECT_NE(w.find(s), std::string::npos) << "'" << s << "' not in: " << w;
+  // Loaded as written: the same model as with a fine inertia apart from that body's rotational inertia.
+  ASSERT_EQ(m.model.size(), 1);
+  EXPECT_DOUBLE_EQ(m.model.inertia(0).m, 2.5);
+  EXPECT_EQ(m.model.joint_name(0), "ankle");
+  const auto fine = uio::load_string(imperfect_robot(kFine));
+  EXPECT_TRUE(fine.warnings.empty());
+  EXPECT_EQ(fine.model.inertia(0).h, m.model.inertia(0).h);
+  Data<double> d(m.model);
+  const Eigen::VectorXd q = Eigen::VectorXd::Constant(1, 0.4), qd = q, qdd = q;
+  EXPECT_TRUE(rnea(m.model, d, q, qd, qdd).allFinite());
+  EXPECT_GT(crba(m.model, d, q)(0, 0), 0.0);
+  // One warning per link, whatever the link becomes: merged through a fixed joint, or walked backwards.
+  const auto merged = uio::load_string(imperfect_robot(kFine, "2", kTriangle));
+  ASSERT_EQ(merged.warnings.size(), 1u);
+  EXPECT_EQ(merged.warnings[0].rfind("<string>: link 'sensor': principal moments violate", 0), 0u) << merged.warnings[0];
+  uio::LoadOptions reroot;
+  reroot.root = "sensor";
+  const auto reversed = uio::load_string(imperfect_robot(kTriangle), reroot);
+  ASSERT_EQ(reversed.warnings.size(), 1u);
+  EXPECT_NE(reversed.warnings[0].find("link 'foot'"), std::string::npos) << reversed.warnings[0];
+  EXPECT_TRUE(reversed.joints[0].reversed);
+  // A link with zero mass and such an inertia too.
+  EXPECT_EQ(uio::load_string(imperfect_robot(kTriangle, "0")).warnings.size(), 1u);
+  // The file in test/bad/ (0.01 + 0.01 < 0.03).
+  const auto file = uio::load_file(urdf_path("test/bad/triangle.urdf"));
+  ASSERT_EQ(file.warnings.size(), 1u);
+  EXPECT_EQ(file.warnings[0].rfind(urdf_path("test/bad/triangle.urdf") + ": link 'b': ", 0), 0u) << file.warnings[0];
+  EXPECT_NE(file.warnings[0].find("33.3 %"), std::string::npos) << file.warnings[0];
+}
+
+TEST(UrdfInertia, StrictModeRefusesTheTriangleInequalityNamingTheLink) {
+  for (const auto& [xml, link] : std::vector<std::pair<std::string, std::string>>{
+           {imperfect_robot(kTriangle), "foot"}, {imperfect_robot(kFine, "2", kTriangle), "sensor"}}) {
+    try {
+      const auto m = uio::load_string(xml, strict_inertia(), "robot.urdf");
+      ADD_FAILURE() << "strict mode loaded a model with " << m.warnings.size() << " warnings";
+    } catch (const ModelError& e) {
+      const std::string msg = e.what();
+      EXPECT_EQ(msg.rfind("robot.urdf: link '" + link + "': principal moments violate the triangle inequality", 0), 0u)
+          << msg;
+      EXPECT_NE(msg.find("short by 0.2"), std::string::npos) << msg;
+    }
+  }
+  // A parsed model (load_model) too.
+  urdf::ModelInterfaceSharedPtr parsed = urdf::parseURDF(imperfect_robot(kTriangle));
+  ASSERT_TRUE(parsed);
+  EXPECT_EQ(uio::load_model(*parsed).warnings.size(), 1u);
+  EXPECT_THROW((void)uio::load_model(*parsed, strict_inertia()), ModelError);
+  // Strict mode changes nothing for inertias that are fine.
+  const auto fine = uio::load_string(imperfect_robot(kFine), strict_inertia());
+  EXPECT_TRUE(fine.warnings.empty());
+  EXPECT_EQ(fine.model.inertia(0).I, uio::load_string(imperfect_robot(kFine)).model.inertia(0).I);
+  const auto hoap = uio::load_file(urdf_path("hoap3.urdf"), strict_inertia());
+  EXPECT_TRUE(hoap.warnings.empty());
+  EXPECT_TRUE(uio::load_file(urdf_path("hoap3.urdf")).warnings.empty());
+}
+
+TEST(UrdfInertia, WhatBreaksTheAlgorithmsIsRefusedInBothModes) {
+  const std::string bad = urdf_path("test/bad/");
+  for (const uio::LoadOptions& opt : {uio::LoadOptions{}, strict_inertia()}) {
+    SCOPED_TRACE(opt.strict_inertia ? "strict" : "default");
+    expect_error(bad + "not_psd.urdf", {"link 'b'", "positive semi-definite"}, opt);
+    expect_error(bad + "negative_mass.urdf", {"link 'b'", "negative mass"}, opt);
+    expect_error(bad + "nan_mass.urdf", {"[b]", "mass [nan]"}, opt);
+    expect_error(bad + "overflow.urdf", {"link 'b'", "NaN or Inf"}, opt);
+    // Not positive semi-definite and breaking the triangle inequality: the error wins.
+    for (const char* inertia : {R"(ixx="-0.1" iyy="0.5" izz="1.0")", R"(ixx="0.1" iyy="0.1" izz="0.1" ixy="0.5")"}) {
+      std::string xml = imperfect_robot(inertia);
+      if (std::string(inertia).find("ixy") != std::string::npos) xml.replace(xml.find(R"(ixy="0" )"), 8, "");
+      try {
+        (void)uio::load_string(xml, opt);
+        ADD_FAILURE() << "accepted " << inertia;
+      } catch (const ModelError& e) {
+        EXPECT_NE(std::string(e.what()).find("link 'foot': rotational inertia about the centre of mass is not positive "
+                                             "semi-definite"),
+                  std::string::npos)
+            << e.what();
+      }
+    }
+    try {
+      (void)uio::load_string(imperfect_robot(kTriangle, "-1"), opt);
+      ADD_FAILURE() << "accepted a negative mass";
+    } catch (const ModelError& e) {
+      EXPECT_NE(std::string(e.what()).find("link 'foot': negative mass"), std::string::npos) << e.what();
+    }
+  }
 }
 
 TEST(UrdfErrors, BadOptions) {

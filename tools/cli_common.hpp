@@ -1,12 +1,14 @@
 #pragma once
 // Shared by the command-line tools (spatial-dyn, spatial-gen): strict number parsing, the model options that both
-// accept (--root, --subtree, --lock, --gravity, --gravity-frame) and turning them into urdf_io::LoadOptions.
+// accept (--root, --subtree, --lock, --gravity, --gravity-frame, --strict-inertia), turning them into
+// urdf_io::LoadOptions, and printing the loader's warnings.
 // Not part of the installed library.
 
 #include <spatial/urdf.hpp>
 
 #include <charconv>
 #include <cmath>
+#include <iostream>
 #include <map>
 #include <optional>
 #include <stdexcept>
@@ -168,9 +170,17 @@ inline const std::vector<std::string>& model_option_names() {
                                                  "--gravity-frame"};
   return names;
 }
+/// The model options that take no value: `--floating` (the base link becomes free-flying, LoadOptions::floating)
+/// and `--strict-inertia` (LoadOptions::strict_inertia).
+inline const std::vector<std::string>& model_flag_names() {
+  static const std::vector<std::string> names = {"--floating", "--strict-inertia"};
+  return names;
+}
 
 inline urdf_io::LoadOptions load_options(const Options& o) {
   urdf_io::LoadOptions opt;
+  opt.floating = o.has("--floating");
+  opt.strict_inertia = o.has("--strict-inertia");
   if (auto v = o.get("--root")) opt.root = *v;
   if (auto v = o.get("--subtree")) opt.subtree = *v;
   if (auto v = o.get("--lock")) opt.locked = parse_lock_list(*v);
@@ -181,6 +191,12 @@ inline urdf_io::LoadOptions load_options(const Options& o) {
     else throw UsageError("--gravity-frame: expected 'root' or 'urdf', got '" + *v + "'");
   }
   return opt;
+}
+
+/// Prints the loader's warnings (each already starts with the file name) to stderr, one line each:
+/// "TOOL: warning: FILE: MESSAGE".
+inline void print_warnings(const urdf_io::LoadedModel& loaded, const std::string& tool) {
+  for (const std::string& w : loaded.warnings) std::cerr << tool << ": warning: " << one_line(w) << "\n";
 }
 
 }  // namespace spatial::cli

@@ -1,7 +1,11 @@
 // spatial-gen: URDF -> a header with a compile-time model (spatial::Tree and every number as a constant).
 //
 //   spatial-gen --urdf FILE [--root LINK] [--subtree LINK] [--lock JOINT=ANGLE,...] [--gravity gx,gy,gz]
-//               [--gravity-frame root|urdf] --name NAME [--namespace NS] [--title TEXT] [--out FILE|-]
+//               [--gravity-frame root|urdf] [--floating] [--strict-inertia] --name NAME [--namespace NS] [--title TEXT]
+//               [--out FILE|-]
+//
+// The loader's warnings (link inertias breaking the triangle inequality) go to stderr as
+// "spatial-gen: warning: FILE: ..."; --strict-inertia refuses such a file instead.
 //
 // The model options mean what they mean to spatial::urdf_io::load_file (LoadOptions) and to spatial-dyn; the header
 // holds exactly the numbers the loader computes (printed as the shortest decimals that read back as the same
@@ -34,10 +38,11 @@ using cli::UsageError;
 
 const char* kUsage =
     "usage: spatial-gen --urdf FILE [--root LINK] [--subtree LINK] [--lock JOINT=ANGLE,...]\n"
-    "                   [--gravity gx,gy,gz] [--gravity-frame root|urdf]\n"
+    "                   [--gravity gx,gy,gz] [--gravity-frame root|urdf] [--floating] [--strict-inertia]\n"
     "                   --name NAME [--namespace NS] [--title TEXT] [--out FILE|-]\n"
     "Writes a C++ header with the compile-time model of the URDF (spatial::Tree alias, NS::NAME::model<S>(),\n"
-    "names, limits, frames, masses). NS defaults to spatial::models; --out - (default) writes to stdout.\n";
+    "names, limits, frames, masses; with --floating also NS::NAME::floating_model<S>(), the free-flying base link\n"
+    "carrying that tree). NS defaults to spatial::models; --out - (default) writes to stdout.\n";
 
 /// A C++ double literal that reads back as exactly x (finite x).
 std::string lit(double x) {
@@ -320,8 +325,20 @@ std::string generate(const uio::LoadedModel& m, const std::string& name, const s
     << "    mass += Ii.m;\n"
     << "  }\n"
     << "  return first_moment / mass;\n"
-    << "}\n\n"
-    << "}  // namespace " << ns << "::" << name << "\n";
+    << "}\n\n";
+  if (m.floating)
+    o << "/// Velocity coordinates (the free-flyer's six, then the joints) and configuration coordinates (its seven).\n"
+      << "inline constexpr int nv = dof + 6;\n"
+      << "inline constexpr int nq = dof + 7;\n"
+      << "\n"
+      << "/// The floating-base model: the free-flyer `floating_base` at link '" << m.root << "' (inertia base_inertia()),\n"
+      << "/// carrying the tree of model(); gravity in world coordinates. q: [x y z qx qy qz qw, joints], v: [v w, q̇]\n"
+      << "/// (floating.hpp).\n"
+      << "template <class S = double>\n"
+      << "FloatingModel<S, Tree> floating_model() {\n"
+      << "  return FloatingModel<S, Tree>(model<S>(), base_inertia<S>(), " << quoted(m.root) << ");\n"
+      << "}\n\n";
+  o << "}  // namespace " << ns << "::" << name << "\n";
   return o.str();
 }
 
@@ -333,7 +350,7 @@ int run(int argc, char** argv) {
     }
   std::vector<std::string> with_value = cli::model_option_names();
   for (const char* s : {"--name", "--namespace", "--title", "--out"}) with_value.emplace_back(s);
-  const cli::Options opts(argc, argv, 1, with_value, {});
+  const cli::Options opts(argc, argv, 1, with_value, cli::model_flag_names());
   const std::string urdf = opts.required("--urdf");
   const std::string name = opts.required("--name");
   const std::string ns = opts.get("--namespace").value_or("spatial::models");
@@ -350,9 +367,11 @@ int run(int argc, char** argv) {
       const bool quote = v->find_first_of(" \t()'\"*?$;&|<>") != std::string::npos;
       command += std::string(" ") + o + " " + (quote ? "'" + *v + "'" : *v);
     }
+  if (opts.has("--floating")) command += " --floating";
   command += " --out " + name + ".hpp";
 
   const uio::LoadedModel loaded = uio::load_file(urdf, load);
+  cli::print_warnings(loaded, "spatial-gen");  // stderr: the header on stdout stays clean
   const std::string text = generate(loaded, name, ns, opts.get("--title").value_or(""), command);
 
   if (out == "-") {

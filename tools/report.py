@@ -62,6 +62,21 @@ TARGETS = [
     ("RNEA vs KDL TreeIdSolver_RNE", "RNEA", "kdl", "RNEA", 0.1),
 ]
 
+# Performance targets of issue 11 (floating base): on floating27 (the HOAP-3 free-flying at the pelvis, nv = 27) in
+# double, spatial's compile-time tree against Pinocchio's free-flyer model of the same robot, same compiler and run.
+FLOATING_MODEL = "floating27"
+FLOATING_TARGETS = [
+    ("floating RNEA vs Pinocchio rnea", "RNEA", "pinocchio", "RNEA", 0.5),
+    ("floating CRBA vs Pinocchio crba", "CRBA", "pinocchio", "CRBA", 0.5),
+    ("floating ABA vs Pinocchio aba", "ABA", "pinocchio", "ABA", 0.5),
+    ("all joint Jacobians vs Pinocchio computeJointJacobians", "JointJacobians", "pinocchio", "JointJacobians", 0.5),
+    ("one frame Jacobian after them vs Pinocchio getFrameJacobian", "FrameJacobian", "pinocchio", "FrameJacobian", 0.5),
+    ("one frame Jacobian in one call vs Pinocchio computeFrameJacobian", "ComputeFrameJacobian", "pinocchio",
+     "ComputeFrameJacobian", 0.5),
+    ("CoM Jacobian vs Pinocchio jacobianCenterOfMass", "ComJacobian", "pinocchio", "ComJacobian", 0.5),
+    ("centroidal momentum matrix vs Pinocchio ccrba", "CentroidalMatrix", "pinocchio", "CentroidalMatrix", 0.5),
+]
+
 # Why a target can be missed on this kind of machine and what would close it (analysis in docs/performance.md);
 # printed under the targets table for the targets the run missed.
 MISS_NOTES = {
@@ -72,7 +87,8 @@ MISS_NOTES = {
             "with two horizontal adds would take ~15 % of the instructions off.",
 }
 
-ALGORITHMS = ["RNEA", "GravityTorques", "BiasForces", "CRBA", "FD_CRBA_LTDL", "FD_CRBA_DenseLLT", "ABA", "FK", "LTDL"]
+ALGORITHMS = ["RNEA", "GravityTorques", "BiasForces", "CRBA", "FD_CRBA_LTDL", "FD_CRBA_DenseLLT", "ABA", "FK", "LTDL",
+              "JointJacobians", "FrameJacobian", "ComputeFrameJacobian", "ComJacobian", "CentroidalMatrix"]
 ALGORITHM_TITLES = {
     "RNEA": "RNEA (inverse dynamics)",
     "GravityTorques": "gravity torques",
@@ -363,11 +379,13 @@ def headline_rows(records, compilers):
     return header, rows
 
 
-def target_rows(records, compilers, have_pinocchio):
+def target_rows(records, compilers, have_pinocchio, targets=None, model=None):
+    targets = TARGETS if targets is None else targets
+    model = TARGET_MODEL if model is None else model
     rows = []
-    for title, algorithm, peer, peer_algorithm, target in TARGETS:
+    for title, algorithm, peer, peer_algorithm, target in targets:
         for c in compilers:
-            r = find(records, compiler=c, model=TARGET_MODEL, algorithm=algorithm, scalar="double", tree="static")
+            r = find(records, compiler=c, model=model, algorithm=algorithm, scalar="double", tree="static")
             peer_ns = None
             if r:
                 peer_ns = r["pinocchio_ns"] if peer == "pinocchio" else r["kdl_ns"]
@@ -749,6 +767,29 @@ def write_report(out_dir, compilers, records, time_kind, charts_enabled=True, sc
             w(f"- {title}, {c}: {note}")
         w("")
 
+    w(f"## Floating base (issue 11): {FLOATING_MODEL}")
+    w("")
+    w("The HOAP-3 free-flying at the pelvis (`hoap3_floating`: free-flyer + 21 joints, nq = 28, nv = 27), against "
+      "Pinocchio's `JointModelFreeFlyer` model of the same robot built from the same numbers (bench_pinocchio checks "
+      "τ, H and v̇ against ours before timing), on 256 states: root anywhere in a 1 m box with a random orientation, "
+      "joints within their limits.")
+    w("")
+    header, rows = target_rows(records, compiler_list, have_pinocchio, FLOATING_TARGETS, FLOATING_MODEL)
+    w(md_table(header, rows))
+    w("")
+    frows = []
+    for algorithm in sorted({r["algorithm"] for r in records if r["model"] == FLOATING_MODEL}, key=algorithm_sort_key):
+        for c in compiler_list:
+            st = find(records, compiler=c, model=FLOATING_MODEL, algorithm=algorithm, scalar="double", tree="static")
+            rt = find(records, compiler=c, model=FLOATING_MODEL, algorithm=algorithm, scalar="double", tree="runtime")
+            pin = st["pinocchio_ns"] if st else None
+            frows.append([algorithm, c, fmt_ns(st["ns"]) if st else "–", fmt_ns(rt["ns"]) if rt else "–",
+                          fmt_ns(pin) if pin else "–", fmt_ratio(ratio(st["ns"] if st else None, pin)),
+                          fmt_ratio(ratio(rt["ns"] if rt else None, pin))])
+    w(md_table(["algorithm", "compiler", "compile-time tree", "run-time tree", "Pinocchio", "÷ Pinocchio (ct)",
+                "÷ Pinocchio (rt)"], frows))
+    w("")
+
     w("## Reference rows")
     w("")
     rows = []
@@ -998,6 +1039,9 @@ def main():
     have_pinocchio = {c: any(k[0] == "pinocchio" for k in e["times"]) for c, e in compilers.items()}
     header, rows = target_rows(records, list(compilers), have_pinocchio)
     print("\nPerformance targets (issue 4)\n")
+    print(text_table(header, rows))
+    header, rows = target_rows(records, list(compilers), have_pinocchio, FLOATING_TARGETS, FLOATING_MODEL)
+    print(f"\nFloating-base targets (issue 11, {FLOATING_MODEL})\n")
     print(text_table(header, rows))
     print(f"\nreport.py: wrote {os.path.join(args.output, 'report.md')}, summary.json and charts")
 

@@ -6,6 +6,8 @@
 //   spatial-dyn info --urdf FILE [MODEL OPTIONS]
 //   spatial-dyn scene NAME|all [--out DIR]      the reference study's experiments (tools/scenes.hpp)
 //   MODEL OPTIONS: --root LINK  --subtree LINK  --lock JOINT=ANGLE,...  --gravity gx,gy,gz  --gravity-frame root|urdf
+//                  --floating (the root link flies free: free-flyer columns floating_base:x … qw, :vx … wz)
+//                  --strict-inertia
 //
 // CSV rules (also in README.md, "Command-line tool"):
 //  - The first line is the header. Columns are named `q:<joint>`, `qd:<joint>`, `qdd:<joint>`, `tau:<joint>` with
@@ -24,6 +26,8 @@
 //    the output recomputes). --out - or no --out: stdout. Nothing is written unless every sample is good.
 //  - Errors: exit status 1 (bad input, model or file) or 2 (bad command line), and one line on stderr naming the
 //    file, line, row and column at fault.
+//  - Warnings: link inertias breaking the triangle inequality are loaded, with one line per link on stderr,
+//    "spatial-dyn: warning: FILE: link 'x': ..."; --strict-inertia refuses them (exit status 1).
 
 #include "cli_common.hpp"
 #include "scene_run.hpp"
@@ -33,6 +37,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
@@ -60,6 +65,7 @@ const char* kUsage =
     "       spatial-dyn info --urdf FILE [MODEL OPTIONS]\n"
     "       spatial-dyn scene NAME|all [--out DIR]\n"
     "MODEL OPTIONS: --root LINK  --subtree LINK  --lock JOINT=ANGLE,...  --gravity gx,gy,gz  --gravity-frame root|urdf\n"
+    "               --floating  --strict-inertia\n"
     "\n"
     "  id    inverse dynamics (RNEA): columns q:<joint>, qd:<joint>, qdd:<joint> -> tau:<joint>\n"
     "  fd    forward dynamics (ABA, or CRBA + LTDL with --method crba): q:, qd:, tau: -> qdd:<joint>\n"
@@ -73,7 +79,15 @@ const char* kUsage =
     "ignored (--echo copies them to the output); columns of joints the model does not move (fixed, locked, outside\n"
     "the subtree) are ignored. --in - reads stdin; --out - (default) writes stdout. Numbers are written with up to 17\n"
     "significant digits. Gravity defaults to (0, 0, -9.81) in the root link's frame (--gravity-frame urdf: in the\n"
-    "URDF root link's frame). Exit status: 0 ok, 1 bad input, 2 bad command line.\n";
+    "URDF root link's frame). A link inertia whose principal moments break the triangle inequality (I1 + I2 < I3:\n"
+    "impossible, but harmless to the algorithms; common in CAD exports) is loaded with a warning on stderr;\n"
+    "--strict-inertia refuses the file instead. Exit status: 0 ok, 1 bad input, 2 bad command line.\n"
+    "\n"
+    "--floating: the root link flies free (free-flyer 'floating_base'; also implied by a URDF floating joint from a\n"
+    "massless world link). Its columns: q:floating_base:x, :y, :z (root origin in the world), :qx, :qy, :qz, :qw\n"
+    "(unit quaternion, root axes to world axes) and qd:/qdd:/tau:floating_base:vx, :vy, :vz, :wx, :wy, :wz (linear\n"
+    "then angular velocity, acceleration or wrench, in root coordinates; Pinocchio's free-flyer convention). Gravity\n"
+    "is then in world coordinates.\n";
 
 enum class Command { Id, Fd, Crba, Info };
 
@@ -84,16 +98,34 @@ struct Robot {
   uio::LoadedModel loaded;
   std::string urdf;
   std::set<std::string> urdf_joints;  // every <joint> of the file, moving or not
+  bool floating = false;
+  std::vector<std::string> q_names, v_names;  // configuration and velocity coordinates (column names less "q:" etc.)
+  int nq() const { return static_cast<int>(q_names.size()); }
+  int nv() const { return static_cast<int>(v_names.size()); }
 };
+
+/// The free-flyer's coordinate names, after "floating_base:".
+const std::array<const char*, 7> kFreeFlyerQ = {"x", "y", "z", "qx", "qy", "qz", "qw"};
+const std::array<const char*, 6> kFreeFlyerV = {"vx", "vy", "vz", "wx", "wy", "wz"};
 
 Robot load_robot(const cli::Options& opts) {
   Robot r;
   r.urdf = opts.required("--urdf");
   const uio::LoadOptions load = cli::load_options(opts);
   r.loaded = uio::load_file(r.urdf, load);  // throws ModelError naming the file (and checks it can be read)
+  cli::print_warnings(r.loaded, "spatial-dyn");
   std::ifstream in(r.urdf, std::ios::binary);
   const std::string xml((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   for (const std::string& name : uio::detail::joint_document_order(xml)) r.urdf_joints.insert(name);
+  r.floating = r.loaded.floating;
+  if (r.floating) {
+    for (const char* c : kFreeFlyerQ) r.q_names.push_back(std::string(kFreeFlyerName) + ":" + c);
+    for (const char* c : kFreeFlyerV) r.v_names.push_back(std::string(kFreeFlyerName) + ":" + c);
+  }
+  for (int i = 0; i < r.loaded.model.size(); ++i) {
+    r.q_names.push_back(r.loaded.model.joint_name(i));
+    r.v_names.push_back(r.loaded.model.joint_name(i));
+  }
   return r;
 }
 
@@ -162,15 +194,21 @@ const std::array<std::string, 4> kKinds = {"q", "qd", "qdd", "tau"};
 
 struct Columns {
   std::vector<std::string> names;                  // header, unquoted
-  std::array<std::vector<int>, 4> of;              // per kind, per model joint: column index or -1
+  std::array<std::vector<int>, 4> of;              // per kind, per coordinate (q: nq, others: nv): column or -1
   std::vector<std::string> ignored_joints;         // URDF joints not in the model that had columns
 };
 
+/// Index of `name` in the coordinate list of `kind` (q: configuration, the others: velocity), or -1.
+int coordinate_index(const Robot& robot, std::size_t kind, const std::string& name) {
+  const auto& list = kind == 0 ? robot.q_names : robot.v_names;
+  const auto it = std::find(list.begin(), list.end(), name);
+  return it == list.end() ? -1 : static_cast<int>(it - list.begin());
+}
+
 Columns map_columns(const Table& t, const Robot& robot) {
-  const Model<double>& model = robot.loaded.model;
-  const int n = model.size();
   Columns c;
-  for (auto& v : c.of) v.assign(static_cast<std::size_t>(n), -1);
+  for (std::size_t kind = 0; kind < c.of.size(); ++kind)
+    c.of[kind].assign(static_cast<std::size_t>(kind == 0 ? robot.nq() : robot.nv()), -1);
   std::set<std::string> seen;
   for (std::size_t k = 0; k < t.header.fields.size(); ++k) {
     std::string name(t.header.fields[k]);
@@ -184,9 +222,20 @@ Columns map_columns(const Table& t, const Robot& robot) {
     const std::string kind = name.substr(0, colon), joint = name.substr(colon + 1);
     const auto kit = std::find(kKinds.begin(), kKinds.end(), kind);
     if (kit == kKinds.end()) continue;  // some other column (H:..., x:..., ...): ignored
-    const int i = model.joint_index(joint);
+    const auto kind_index = static_cast<std::size_t>(kit - kKinds.begin());
+    const int i = coordinate_index(robot, kind_index, joint);
+    const std::string ff = std::string(kFreeFlyerName) + ":";
     if (i >= 0) {
-      c.of[static_cast<std::size_t>(kit - kKinds.begin())][static_cast<std::size_t>(i)] = static_cast<int>(k);
+      c.of[kind_index][static_cast<std::size_t>(i)] = static_cast<int>(k);
+    } else if (joint.rfind(ff, 0) == 0) {
+      if (!robot.floating)
+        throw InputError(where(t, t.header) + ", " + column_text(name, k) +
+                         ": the model has no free-flyer (load it with --floating)");
+      std::string expected;
+      for (const auto& e : kind_index == 0 ? robot.q_names : robot.v_names)
+        if (e.rfind(ff, 0) == 0) expected += (expected.empty() ? "" : ", ") + kind + ":" + e;
+      throw InputError(where(t, t.header) + ", " + column_text(name, k) + ": unknown free-flyer coordinate (" +
+                       kind + ": columns of the free-flyer are " + expected + ")");
     } else if (robot.urdf_joints.count(joint)) {
       if (std::find(c.ignored_joints.begin(), c.ignored_joints.end(), joint) == c.ignored_joints.end())
         c.ignored_joints.push_back(joint);
@@ -198,20 +247,24 @@ Columns map_columns(const Table& t, const Robot& robot) {
   return c;
 }
 
-void require(const Table& t, const Columns& c, const Model<double>& model, const std::vector<int>& kinds,
+void require(const Table& t, const Columns& c, const Robot& robot, const std::vector<int>& kinds,
              const std::string& command) {
+  const Model<double>& model = robot.loaded.model;
   std::vector<std::string> missing;
-  for (int kind : kinds)
-    for (int i = 0; i < model.size(); ++i)
-      if (c.of[static_cast<std::size_t>(kind)][static_cast<std::size_t>(i)] < 0)
-        missing.push_back(kKinds[static_cast<std::size_t>(kind)] + ":" + model.joint_name(i));
+  for (int kind : kinds) {
+    const auto& names = kind == 0 ? robot.q_names : robot.v_names;
+    for (std::size_t i = 0; i < names.size(); ++i)
+      if (c.of[static_cast<std::size_t>(kind)][i] < 0)
+        missing.push_back(kKinds[static_cast<std::size_t>(kind)] + ":" + names[i]);
+  }
   if (missing.empty()) return;
   std::string needs;
   for (int kind : kinds) needs += (needs.empty() ? "" : ", ") + kKinds[static_cast<std::size_t>(kind)] + ":";
   throw InputError(where(t, t.header) + ": missing column '" + missing.front() + "'" +
                    (missing.size() > 1 ? " (and " + std::to_string(missing.size() - 1) + " more)" : "") + "; " +
                    command + " needs " + needs + " columns for each of the " + std::to_string(model.size()) +
-                   " joints of the model (spatial-dyn info lists them)");
+                   " joints of the model" + (robot.floating ? " and the free-flyer floating_base" : "") +
+                   " (spatial-dyn info lists them)");
 }
 
 double cell(const Table& t, const Line& l, const Columns& c, int k) {
@@ -281,7 +334,7 @@ int run_dynamics(Command cmd, const cli::Options& opts) {
   const std::vector<int> kinds = cmd == Command::Id ? std::vector<int>{0, 1, 2}
                                  : cmd == Command::Fd ? std::vector<int>{0, 1, 3}
                                                       : std::vector<int>{0};
-  require(table, cols, model, kinds, "spatial-dyn " + name);
+  require(table, cols, robot, kinds, "spatial-dyn " + name);
   if (!cols.ignored_joints.empty()) {
     std::string list;
     for (const auto& j : cols.ignored_joints) list += (list.empty() ? "" : ", ") + j;
@@ -289,13 +342,15 @@ int run_dynamics(Command cmd, const cli::Options& opts) {
   }
 
   // Output header.
+  const int nq = robot.nq(), nv = robot.nv();
   std::vector<std::string> out_names;
   if (cmd == Command::Crba) {
-    for (int i = 0; i < n; ++i)
-      for (int j = 0; j < n; ++j) out_names.push_back("H:" + model.joint_name(i) + ":" + model.joint_name(j));
+    for (int i = 0; i < nv; ++i)
+      for (int j = 0; j < nv; ++j)
+        out_names.push_back("H:" + robot.v_names[std::size_t(i)] + ":" + robot.v_names[std::size_t(j)]);
   } else {
     const std::string prefix = cmd == Command::Id ? "tau:" : "qdd:";
-    for (int i = 0; i < n; ++i) out_names.push_back(prefix + model.joint_name(i));
+    for (int i = 0; i < nv; ++i) out_names.push_back(prefix + robot.v_names[std::size_t(i)]);
   }
   const bool echo = opts.has("--echo");
   std::vector<std::size_t> echoed;  // input columns copied to the output
@@ -318,19 +373,29 @@ int run_dynamics(Command cmd, const cli::Options& opts) {
   }
 
   Data<double> data(model);
-  Eigen::VectorXd q(n), qd(n), x(n);
+  const FloatingModel<double> fmodel =
+      robot.floating ? uio::floating_model(robot.loaded) : FloatingModel<double>(model, Inertia<double>::Zero());
+  FloatingData<double> fdata(fmodel);
+  Eigen::VectorXd q(nq), qd(nv), x(nv);
   const auto& qc = cols.of[0];
   const auto& qdc = cols.of[1];
   const auto& xc = cols.of[cmd == Command::Fd ? 3 : 2];
   for (const Line& row : table.rows) {
     check_width(table, row, cols);
-    for (int i = 0; i < n; ++i) {
-      const auto k = static_cast<std::size_t>(i);
-      q[i] = cell(table, row, cols, qc[k]);
-      if (cmd != Command::Crba) {
+    for (int i = 0; i < nq; ++i) q[i] = cell(table, row, cols, qc[static_cast<std::size_t>(i)]);
+    if (cmd != Command::Crba)
+      for (int i = 0; i < nv; ++i) {
+        const auto k = static_cast<std::size_t>(i);
         qd[i] = cell(table, row, cols, qdc[k]);
         x[i] = cell(table, row, cols, xc[k]);
       }
+    if (robot.floating) {
+      // The quaternion must be a rotation: within 1e-6 of unit length (rounding of a written file), then normalised.
+      const double norm = q.segment<4>(3).norm();
+      if (!(std::abs(norm - 1.0) <= 1e-6))
+        throw InputError(where(table, row) + ", columns q:floating_base:qx … qw: the quaternion has length " +
+                         cli::format_double(norm) + ", not 1 (it must be a unit quaternion)");
+      q.segment<4>(3) /= norm;
     }
     bool first = true;
     for (std::size_t k : echoed) {
@@ -342,7 +407,20 @@ int run_dynamics(Command cmd, const cli::Options& opts) {
       out += cli::format_double(v);
       first = false;
     };
-    if (cmd == Command::Id) {
+    if (robot.floating) {
+      if (cmd == Command::Id) {
+        const auto& tau = rnea(fmodel, fdata, q, qd, x);
+        for (int i = 0; i < nv; ++i) put(tau[i]);
+      } else if (cmd == Command::Fd) {
+        const auto& qdd =
+            method == "aba" ? aba(fmodel, fdata, q, qd, x) : forward_dynamics_crba(fmodel, fdata, q, qd, x);
+        for (int i = 0; i < nv; ++i) put(qdd[i]);
+      } else {
+        crba(fmodel, fdata, q);
+        for (int i = 0; i < nv; ++i)
+          for (int j = 0; j < nv; ++j) put(i >= j ? fdata.H(i, j) : fdata.H(j, i));
+      }
+    } else if (cmd == Command::Id) {
       const auto& tau = rnea(model, data, q, qd, x);
       for (int i = 0; i < n; ++i) put(tau[i]);
     } else if (cmd == Command::Fd) {
@@ -381,9 +459,13 @@ int run_info(const cli::Options& opts) {
   const int n = model.size();
   std::ostringstream o;
   o << "urdf:      " << robot.urdf << "\n"
-    << "root:      " << m.root << " (the fixed base)\n"
-    << "dof:       " << n << "\n"
-    << "gravity:   " << vec3(model.gravity()) << " m/s^2 (base frame)\n"
+    << "root:      " << m.root
+    << (robot.floating ? " (free-flying: free-flyer floating_base, nq = " + std::to_string(robot.nq()) +
+                             ", nv = " + std::to_string(robot.nv()) + ")"
+                       : std::string(" (the fixed base)"))
+    << "\n"
+    << "dof:       " << n << (robot.floating ? " joints + 6 (free-flyer)" : "") << "\n"
+    << "gravity:   " << vec3(model.gravity()) << " m/s^2 (" << (robot.floating ? "world" : "base frame") << ")\n"
     << "locked:    ";
   if (m.locked.empty()) o << "none";
   for (std::size_t k = 0; k < m.locked.size(); ++k)
@@ -500,7 +582,7 @@ int run(int argc, char** argv) {
       return 0;
     }
   std::vector<std::string> with_value = cli::model_option_names();
-  std::vector<std::string> flags;
+  std::vector<std::string> flags = cli::model_flag_names();
   if (cmd != Command::Info) {
     for (const char* s : {"--in", "--out", "--method"}) with_value.emplace_back(s);
     flags.emplace_back("--echo");

@@ -115,4 +115,80 @@ PinocchioPeer<S> make_pinocchio_peer(const Model<S, TreeT>& m) {
   return peer;
 }
 
+/// A floating-base model as Pinocchio's free-flyer model: `JointModelFreeFlyer` "floating_base" at the root
+/// (identity placement, the root inertia appended to it), then the tree as above with its roots on the free-flyer.
+/// Pinocchio's free-flyer q, v and τ are ours (floating.hpp): [x y z qx qy qz qw] and [v ω] in the root frame,
+/// linear first; gravity is the world's. `order` maps the joints as above; vectors are permuted after the first 7
+/// (q) or 6 (v, τ) entries.
+template <class S>
+struct FloatingPinocchioPeer {
+  PinocchioPeer<S> tree;  ///< model: the whole free-flyer model; order: the joints' permutation
+  template <class V>
+  Eigen::Matrix<S, Eigen::Dynamic, 1> to_pinocchio(const V& v, int head) const {
+    Eigen::Matrix<S, Eigen::Dynamic, 1> out(v.size());
+    out.head(head) = v.head(head).template cast<S>();
+    out.tail(v.size() - head) = tree.to_pinocchio(v.tail(v.size() - head));
+    return out;
+  }
+  template <class V>
+  Eigen::Matrix<S, Eigen::Dynamic, 1> from_pinocchio(const V& v) const {  // v, τ, v̇ (head 6)
+    Eigen::Matrix<S, Eigen::Dynamic, 1> out(v.size());
+    out.head(6) = v.head(6);
+    out.tail(v.size() - 6) = tree.from_pinocchio(v.tail(v.size() - 6));
+    return out;
+  }
+  /// Our velocity index of Pinocchio's velocity index a.
+  Eigen::Index ours(Eigen::Index a) const { return a < 6 ? a : 6 + tree.order[std::size_t(a - 6)]; }
+  template <class M>
+  Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic> from_pinocchio_matrix(const M& m) const {
+    const auto n = m.rows();
+    Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic> out(n, n);
+    for (Eigen::Index a = 0; a < n; ++a)
+      for (Eigen::Index b = 0; b < n; ++b) out(ours(a), ours(b)) = m(a, b);
+    return out;
+  }
+  /// A matrix with one column per velocity (Jacobians, A_G): Pinocchio's column order → ours.
+  template <class M>
+  Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic> from_pinocchio_columns(const M& m) const {
+    Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic> out(m.rows(), m.cols());
+    for (Eigen::Index a = 0; a < m.cols(); ++a) out.col(ours(a)) = m.col(a);
+    return out;
+  }
+};
+
+template <class S, class TreeT>
+FloatingPinocchioPeer<S> make_pinocchio_floating_peer(const FloatingModel<S, TreeT>& fm) {
+  using Collection = pinocchio::JointCollectionDefaultTpl<S>;
+  const Model<S, TreeT>& m = fm.tree();
+  FloatingPinocchioPeer<S> peer;
+  auto& pm = peer.tree.model;
+  peer.tree.order = depth_first_order(m);
+  pm.gravity = pinocchio::MotionTpl<S>(fm.gravity(), Vector3<S>::Zero());
+  const pinocchio::JointIndex root =
+      pm.addJoint(0, typename Collection::JointModelFreeFlyer(), pinocchio::SE3Tpl<S>::Identity(), kFreeFlyerName);
+  const Inertia<S>& I0 = fm.root_inertia();
+  pm.appendBodyToJoint(root, pinocchio::InertiaTpl<S>(I0.m, Vector3<S>(I0.h / I0.m), I0.inertia_com()),
+                       pinocchio::SE3Tpl<S>::Identity());
+  std::vector<pinocchio::JointIndex> joint_of(static_cast<std::size_t>(m.size()), 0);
+  for (int i : peer.tree.order) {
+    const auto k = static_cast<std::size_t>(i);
+    const Transform<S>& XT = m.tree_transform(i);
+    const pinocchio::SE3Tpl<S> placement(Matrix3<S>(XT.E.transpose()), XT.r);
+    const pinocchio::JointIndex parent = m.parent(i) < 0 ? root : joint_of[static_cast<std::size_t>(m.parent(i))];
+    joint_of[k] = pm.addJoint(parent, pinocchio_joint<S>(m.joint_type(i), m.axis(i)), placement, m.joint_name(i));
+    const Inertia<S>& I = m.inertia(i);
+    const Vector3<S> c = I.m > S(0) ? Vector3<S>(I.h / I.m) : Vector3<S>::Zero();
+    const Matrix3<S> Ic = I.m > S(0) ? I.inertia_com() : I.I;
+    pm.appendBodyToJoint(joint_of[k], pinocchio::InertiaTpl<S>(I.m, c, Ic), pinocchio::SE3Tpl<S>::Identity());
+  }
+  // Our fixed frames as Pinocchio operational frames (same names, same order after Pinocchio's own frames):
+  // placement SE3(Eᵀ, r) of ᶠX_body = (E, r) in the parent joint's frame; body −1 is the root.
+  for (const FixedFrame<S>& f : m.frames()) {
+    const pinocchio::JointIndex parent = f.body < 0 ? root : joint_of[static_cast<std::size_t>(f.body)];
+    pm.addFrame(pinocchio::FrameTpl<S>(f.name, parent, pinocchio::SE3Tpl<S>(Matrix3<S>(f.X.E.transpose()), f.X.r),
+                                        pinocchio::OP_FRAME));
+  }
+  return peer;
+}
+
 }  // namespace spatial::peers

@@ -96,6 +96,36 @@ SPATIAL_INLINE void walk_up(const Model<S, T>& model, I i, F&& f) {
 struct NoExternalForces {};
 
 namespace detail {
+/// No per-body output from `crba_impl` (see there).
+struct NoForceSink {
+  static constexpr bool active = false;
+  template <class F>
+  void operator()(int, const F&) const {}
+};
+/// The root of a fixed-base tree: the base does not move, and the recursions start from v = 0 and a = −a_g.
+struct FixedRoot {
+  static constexpr bool floating = false;
+};
+/// The root of a floating-base tree (floating.hpp): the bodies whose parent is −1 hang from a moving root body
+/// with velocity `v` and acceleration `a` (root coordinates; `a` includes the fictitious −a_g where gravity is on).
+/// RNEA adds the forces transmitted to the root into `*f`; ABA adds the articulated inertias and bias forces that
+/// the root's children pass to it into `*IA` and `*pA` (root coordinates).
+///
+/// ABA calls `solve()` between its passes 2 and 3: it returns the root's acceleration (minus gravity) from the
+/// completed `*IA` and `*pA` (floating.hpp solves Iᴬ₀ a₀′ = τ₀ − pᴬ₀), and pass 3 starts from it.
+struct NoRootSolve {};
+template <class S, class Solve = NoRootSolve>
+struct MovingRoot {
+  static constexpr bool floating = true;
+  Motion<S> v, a;
+  Force<S>* f = nullptr;
+  ArticulatedInertia<S>* IA = nullptr;
+  Force<S>* pA = nullptr;
+  Solve solve{};
+};
+}  // namespace detail
+
+namespace detail {
 
 enum RneaTerms : unsigned {
   kGravity = 1u,
@@ -221,28 +251,35 @@ void gravity_impl(const Model<S, T>& model, Data<S, T>& data, const Eigen::Matri
 ///   fᵢ = Iᵢ aᵢ + vᵢ ×* Iᵢ vᵢ − fᵢˣ,  τᵢ = Sᵢᵀ fᵢ,  f_λ += ⁱX_λᵀ fᵢ.
 /// Terms switched off are not computed at all (no multiplications by zero). `Simd` = false forces the scalar code
 /// (tests compare the two paths; see simd.hpp for when the AVX2 path is taken).
-template <unsigned Terms, bool Simd = true, class S, class T, class Q, class QD, class QDD, class Ext, class Out>
+/// With a `MovingRoot` (floating base) the recursion starts from the root's velocity and acceleration instead of
+/// 0 and −a_g, and the forces transmitted into the root are added to `*root.f`.
+template <unsigned Terms, bool Simd = true, class S, class T, class Q, class QD, class QDD, class Ext, class Out,
+          class Root = FixedRoot>
 void rnea_impl(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q,
                const Eigen::MatrixBase<QD>& qd, const Eigen::MatrixBase<QDD>& qdd, const Ext& fext,
-               ForceFrame frame, Out& tau) {
+               ForceFrame frame, Out& tau, const Root& root = Root{}) {
   constexpr bool G = (Terms & kGravity) != 0;
   constexpr bool V = (Terms & kVelocity) != 0;
   constexpr bool A = (Terms & kAcceleration) != 0;
   constexpr bool X = has_external_v<Ext>;
+  constexpr bool R = Root::floating;
+  (void)root;
 #if SPATIAL_SIMD_AVX2
   if constexpr (Simd && !X && simd_enabled<S, T>()) {
     (void)fext, (void)frame;
-    simd::rnea<Terms>(model, data, q, qd, qdd, tau);
+    simd::rnea<Terms>(model, data, q, qd, qdd, tau, root);
     return;
   }
 #endif
-  if constexpr (Terms == kGravity && !X) {
+  if constexpr (Terms == kGravity && !X && !R) {
     (void)qd, (void)qdd, (void)frame;
     gravity_impl<true>(model, data, q, tau);
     return;
   }
   const bool base_frame = X && frame == ForceFrame::Base;
-  const Motion<S> a0 = -model.gravity_motion();
+  Motion<S> a0;
+  if constexpr (R) a0 = root.a;
+  else a0 = -model.gravity_motion();
   joint_sincos(model, data, q);
 
   for_each_body(model, [&](auto I) {
@@ -257,9 +294,10 @@ void rnea_impl(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBa
 
     if constexpr (V) {
       const Motion<S> vJ = joint.motion(S(qd[i]));
-      data.v[k] = p >= 0 ? Xup.apply(data.v[pk]) + vJ : vJ;
+      if constexpr (R) data.v[k] = Xup.apply(p >= 0 ? data.v[pk] : root.v) + vJ;
+      else data.v[k] = p >= 0 ? Xup.apply(data.v[pk]) + vJ : vJ;
     }
-    if constexpr (G) {
+    if constexpr (G || R) {
       data.a[k] = Xup.apply(p >= 0 ? data.a[pk] : a0);
     } else {
       if (p >= 0) data.a[k] = Xup.apply(data.a[pk]);
@@ -283,6 +321,7 @@ void rnea_impl(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBa
     const int p = model.parent(I);
     tau[i] = model.joint(I).project(data.f[k]);
     if (p >= 0) data.f[static_cast<std::size_t>(p)] += data.X_up[k].apply_force_inverse(data.f[k]);
+    else if constexpr (R) *root.f += data.X_up[k].apply_force_inverse(data.f[k]);
   });
 }
 
@@ -431,11 +470,17 @@ namespace detail {
 ///   S⁰ⱼ = ʲX_0⁻¹ Sⱼ, kept in `data.S_base`, with ⁱX_0 in `data.X_base`), where H_ij = S⁰ⱼ · F⁰ is a 6-term dot
 ///   product (the scalar product is invariant under the change of coordinates). Entries where neither joint is an
 ///   ancestor of the other stay zero.
-template <bool Simd = true, class S, class T>
-void crba_impl(const Model<S, T>& model, Data<S, T>& data) {
+///
+/// `sink`, when given (floating.hpp: the joint-space inertia of a floating base), takes the place of `data.H`: it
+/// receives every entry `sink.entry(i, j, Hᵢⱼ)` (j = i or an ancestor of i; `data.H` is then not written) and every
+/// body's `sink(i, F⁰)`, Fᵢ⁰ = ⁱX_0ᵀ Iᶜᵢ Sᵢ in base coordinates, the roots' included. The default `NoForceSink`
+/// compiles to nothing.
+template <bool Simd = true, class S, class T, class Sink = NoForceSink>
+void crba_impl(const Model<S, T>& model, Data<S, T>& data, Sink&& sink = Sink{}) {
+  constexpr bool Out = std::decay_t<Sink>::active;
 #if SPATIAL_SIMD_AVX2
   if constexpr (Simd && simd_enabled<S, T>()) {
-    simd::crba(model, data);
+    simd::crba(model, data, sink);
     return;
   }
 #endif
@@ -456,14 +501,23 @@ void crba_impl(const Model<S, T>& model, Data<S, T>& data) {
     const auto k = static_cast<std::size_t>(i);
     const auto joint = model.joint(I);
     const Force<S> F = joint.apply_inertia(data.Ic[k]);
-    data.H(i, i) = joint.project(F);
-    if (model.parent(I) < 0) return;
+    if constexpr (Out) sink.entry(i, i, joint.project(F));
+    else data.H(i, i) = joint.project(F);
+    if (model.parent(I) < 0) {
+      if constexpr (Out) sink(i, data.X_base[k].apply_force_inverse(F));
+      return;
+    }
     const Force<S> F0 = data.X_base[k].apply_force_inverse(F);
+    if constexpr (Out) sink(i, F0);
     walk_up(model, I, [&](auto, auto P) {
       const int p = P;
       const S hip = dot(data.S_base[static_cast<std::size_t>(p)], F0);
-      data.H(i, p) = hip;
-      data.H(p, i) = hip;
+      if constexpr (Out) {
+        sink.entry(i, p, hip);
+      } else {
+        data.H(i, p) = hip;
+        data.H(p, i) = hip;
+      }
     });
   });
 }
@@ -568,14 +622,25 @@ const typename Data<S, T>::VectorN& forward_dynamics_crba(const Model<S, T>& mod
 namespace detail {
 /// The articulated-body algorithm with a compile-time choice of terms: without `V` (q̇ = 0) vᵢ = cᵢ = 0, pass 1 is
 /// the transforms alone and pass 2 drops Iᵃ cᵢ; without `G`, a₀ = 0. `aba` below and `aba<Dyn>` (options.hpp).
-template <bool G, bool V, bool Simd = true, class S, class T, class Q, class QD, class Tau, class Ext>
+///
+/// With a `MovingRoot` (floating base) pass 1 starts from the root's velocity `root.v`, pass 2 adds what the
+/// root's children pass to it into `*root.IA` and `*root.pA`, `root.solve()` returns the root's acceleration and
+/// pass 3 starts from it.
+template <bool G, bool V, class S, class T, class Root>
+void aba_pass3(const Model<S, T>& model, Data<S, T>& data, const Root& root);
+
+template <bool G, bool V, bool Simd = true, class S, class T, class Q, class QD, class Tau, class Ext,
+          class Root = FixedRoot>
 void aba_impl(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q,
-              const Eigen::MatrixBase<QD>& qd, const Eigen::MatrixBase<Tau>& tau, const Ext& fext, ForceFrame frame) {
+              const Eigen::MatrixBase<QD>& qd, const Eigen::MatrixBase<Tau>& tau, const Ext& fext, ForceFrame frame,
+              const Root& root = Root{}) {
   constexpr bool X = has_external_v<Ext>;
+  constexpr bool R = Root::floating;
+  (void)root;
 #if SPATIAL_SIMD_AVX2
   if constexpr (Simd && !X && simd_enabled<S, T>()) {
     (void)fext, (void)frame;
-    simd::aba<G, V>(model, data, q, qd, tau);
+    simd::aba<G, V>(model, data, q, qd, tau, root);
     return;
   }
 #endif
@@ -592,7 +657,8 @@ void aba_impl(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBas
       const int p = model.parent(I);
       const auto joint = model.joint(I);
       const Motion<S> vJ = joint.motion(S(qd[i]));
-      data.v[k] = p >= 0 ? data.X_up[k].apply(data.v[static_cast<std::size_t>(p)]) + vJ : vJ;
+      if constexpr (R) data.v[k] = data.X_up[k].apply(p >= 0 ? data.v[static_cast<std::size_t>(p)] : root.v) + vJ;
+      else data.v[k] = p >= 0 ? data.X_up[k].apply(data.v[static_cast<std::size_t>(p)]) + vJ : vJ;
       data.c[k] = joint.cross_motion(data.v[k], S(qd[i]));
       data.pA[k] = cross(data.v[k], In * data.v[k]);
       if constexpr (X) {
@@ -614,22 +680,43 @@ void aba_impl(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBas
     data.U[k] = joint.apply_inertia(data.IA[k]);
     data.Dinv[k] = S(1) / joint.project(data.U[k]);
     data.u[k] = S(tau[i]) - joint.project(data.pA[k]);
-    if (p >= 0) {
-      const auto pk = static_cast<std::size_t>(p);
+    if (p >= 0 || R) {
       constexpr int K = NullAngular<std::decay_t<decltype(joint)>>::value;
       ArticulatedInertia<S> Ia = data.IA[k];
       Ia.template subtract_outer<K>(data.U[k], data.Dinv[k]);
       Force<S> pa = data.pA[k] + data.U[k] * (data.u[k] * data.Dinv[k]);
       if constexpr (V) pa += Ia.template mul_null<K>(data.c[k]);
-      data.IA[pk] += Ia.template transformed_inverse<K>(data.X_up[k]);
-      data.pA[pk] += data.X_up[k].apply_force_inverse(pa);
+      if (p >= 0) {
+        const auto pk = static_cast<std::size_t>(p);
+        data.IA[pk] += Ia.template transformed_inverse<K>(data.X_up[k]);
+        data.pA[pk] += data.X_up[k].apply_force_inverse(pa);
+      } else if constexpr (R) {
+        *root.IA += Ia.template transformed_inverse<K>(data.X_up[k]);
+        *root.pA += data.X_up[k].apply_force_inverse(pa);
+      }
     }
   });
+  if constexpr (R) {
+    Root moved = root;
+    moved.a = root.solve();
+    aba_pass3<G, V>(model, data, moved);
+  } else {
+    aba_pass3<G, V>(model, data, root);
+  }
+}
+
+/// ABA's pass 3 (see `aba_impl`): a′ = ⁱX_λ a_λ + cᵢ from a₀ = −a_g (fixed base) or `root.a` (floating base),
+/// q̈ᵢ = (uᵢ − Uᵢᵀ a′) / Dᵢ, aᵢ = a′ + Sᵢ q̈ᵢ.
+template <bool G, bool V, class S, class T, class Root>
+void aba_pass3(const Model<S, T>& model, Data<S, T>& data, const Root& root) {
+  constexpr bool R = Root::floating;
+  (void)root;
   for_each_body(model, [&](auto I) {
     const int i = I;
     const auto k = static_cast<std::size_t>(i);
     const int p = model.parent(I);
     if (p >= 0) data.a[k] = data.X_up[k].apply(data.a[static_cast<std::size_t>(p)]);
+    else if constexpr (R) data.a[k] = data.X_up[k].apply(root.a);
     else if constexpr (G) data.a[k] = data.X_up[k].apply(-model.gravity_motion());
     else data.a[k] = Motion<S>::Zero();
     if constexpr (V) data.a[k] += data.c[k];

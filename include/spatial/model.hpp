@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <iomanip>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
@@ -275,11 +276,14 @@ class Model {
   /// and set to the coordinate axis for the X/Y/Z joint types, normalised for the *Axis types), the body and joint
   /// names; then gravity (base coordinates), the fixed frames and the mass merged into the base. Checks what
   /// `ModelBuilder` checks (rigid finite transforms, physical inertias, non-zero axes, frames attached to existing
-  /// bodies) and throws `ModelError` naming the body or frame at fault.
+  /// bodies) and throws `ModelError` naming the body or frame at fault. Like a default `ModelBuilder` it accepts
+  /// inertias whose principal moments break the triangle inequality; when `warnings` is given, one message per such
+  /// body is appended to it (`ModelBuilder::warnings`).
   static Model from_arrays(const Array<Transform<S>>& X_tree, const Array<Inertia<S>>& inertia,
                            const Array<Vector3<S>>& axis, const Array<std::string>& body_names,
                            const Array<std::string>& joint_names, const Vector3<S>& gravity,
-                           std::vector<FixedFrame<S>> frames = {}, S base_mass = S(0));
+                           std::vector<FixedFrame<S>> frames = {}, S base_mass = S(0),
+                           std::vector<std::string>* warnings = nullptr);
 
   Model() {
     g_ = Vector3<S>(S(0), S(0), S(-9.81));
@@ -327,23 +331,43 @@ bool all_finite(const Inertia<S>& I) {
   return isfinite(I.m) && I.h.allFinite() && I.I.allFinite();
 }
 
-/// Reasons an inertia is not that of a physical body, or an empty string.
+/// What is wrong with an inertia. `error`: something the algorithms cannot work with (NaN/Inf, negative mass, an
+/// asymmetric rotational inertia, zero mass with a non-zero first moment, a rotational inertia about the centre of
+/// mass that is not positive semi-definite); always refused. `warning`: physically impossible but numerically
+/// harmless (principal moments breaking the triangle inequality I1 + I2 >= I3: the spatial inertia stays positive
+/// semi-definite, as CAD exports of published robots often have it); refused only in strict mode. Both empty: fine.
+struct InertiaProblem {
+  std::string error;
+  std::string warning;
+  /// The reason to refuse the inertia (the error, or in strict mode the warning too), or an empty string.
+  std::string refusal(bool strict) const { return !error.empty() || !strict ? error : warning; }
+};
+
+/// The one check of an inertia shared by `ModelBuilder`, `Model::from_arrays` and the URDF loader.
 template <class S>
-std::string inertia_problem(const Inertia<S>& I) {
-  if (!all_finite(I)) return "mass properties contain NaN or Inf";
-  if (I.m < S(0)) return "negative mass";
+InertiaProblem inertia_problem(const Inertia<S>& I) {
+  InertiaProblem out;
+  if (!all_finite(I)) return {"mass properties contain NaN or Inf", {}};
+  if (I.m < S(0)) return {"negative mass", {}};
   const S scale = std::max<S>(S(1), I.I.cwiseAbs().maxCoeff());
   const S tol = S(64) * std::numeric_limits<S>::epsilon() * scale;
-  if ((I.I - I.I.transpose()).cwiseAbs().maxCoeff() > tol) return "rotational inertia is not symmetric";
+  if ((I.I - I.I.transpose()).cwiseAbs().maxCoeff() > tol) return {"rotational inertia is not symmetric", {}};
   if (I.m == S(0)) {
-    if (I.h.norm() > tol) return "zero mass with a non-zero first moment";
+    if (I.h.norm() > tol) return {"zero mass with a non-zero first moment", {}};
   }
   const Matrix3<S> Ic = I.m > S(0) ? I.inertia_com() : I.I;
   Eigen::SelfAdjointEigenSolver<Matrix3<S>> es(Ic, Eigen::EigenvaluesOnly);
   const Vector3<S> ev = es.eigenvalues();  // ascending
-  if (ev[0] < -tol) return "rotational inertia about the centre of mass is not positive semi-definite";
-  if (ev[0] + ev[1] < ev[2] - tol) return "principal moments violate the triangle inequality (I1 + I2 >= I3)";
-  return std::string();
+  if (ev[0] < -tol) return {"rotational inertia about the centre of mass is not positive semi-definite", {}};
+  if (ev[0] + ev[1] < ev[2] - tol) {
+    const S sum = ev[0] + ev[1], short_by = ev[2] - sum;
+    std::ostringstream os;
+    os << "principal moments violate the triangle inequality: I1 + I2 = " << sum << " < I3 = " << ev[2]
+       << " kg m^2 (short by " << short_by << ", " << std::setprecision(3)
+       << (ev[2] > S(0) ? S(100) * short_by / ev[2] : S(100)) << " %)";
+    out.warning = os.str();
+  }
+  return out;
 }
 template <class S>
 bool is_rotation(const Matrix3<S>& E) {
@@ -357,17 +381,20 @@ template <class S, class TreeT>
 Model<S, TreeT> Model<S, TreeT>::from_arrays(const Array<Transform<S>>& X_tree, const Array<Inertia<S>>& inertia,
                                              const Array<Vector3<S>>& axis, const Array<std::string>& body_names,
                                              const Array<std::string>& joint_names, const Vector3<S>& gravity,
-                                             std::vector<FixedFrame<S>> frames, S base_mass) {
+                                             std::vector<FixedFrame<S>> frames, S base_mass,
+                                             std::vector<std::string>* warnings) {
   static_assert(is_static, "Model::from_arrays builds compile-time models; use ModelBuilder for run-time trees");
   Model out;
   if (!gravity.allFinite()) throw ModelError("gravity contains NaN or Inf");
+  std::vector<std::string> found;
   for (int i = 0; i < NB; ++i) {
     const auto k = static_cast<std::size_t>(i);
     const std::string what = "body " + std::to_string(i) + " '" + body_names[k] + "' (joint '" + joint_names[k] + "')";
     if (!detail::all_finite(X_tree[k]) || !detail::is_rotation(X_tree[k].E))
       throw ModelError(what + ": joint placement is not a finite rigid transform");
-    const std::string bad = detail::inertia_problem(inertia[k]);
-    if (!bad.empty()) throw ModelError(what + ": " + bad);
+    const detail::InertiaProblem bad = detail::inertia_problem(inertia[k]);
+    if (!bad.error.empty()) throw ModelError(what + ": " + bad.error);
+    if (!bad.warning.empty()) found.push_back(what + ": " + bad.warning);
     Vector3<S> a = axis[k];
     switch (TreeT::joint[k]) {
       case JointType::RevoluteX: case JointType::PrismaticX: a = Vector3<S>::UnitX(); break;
@@ -396,15 +423,28 @@ Model<S, TreeT> Model<S, TreeT>::from_arrays(const Array<Transform<S>>& X_tree, 
   out.g_ = gravity;
   out.frames_ = std::move(frames);
   out.base_mass_ = base_mass;
+  if (warnings != nullptr) warnings->insert(warnings->end(), found.begin(), found.end());
   return out;
 }
 
 /// Builds a run-time `Model<S>` body by body, checking every input; `build()` returns a complete model or throws
 /// `ModelError` naming the body at fault (the builder's own state is left as it was before the failing call).
+///
+/// Inertias: what the algorithms cannot work with is always refused (see `detail::InertiaProblem`). An inertia whose
+/// principal moments break the triangle inequality (physically impossible, numerically harmless; common in CAD
+/// exports) is accepted with a message in `warnings()`, unless `set_strict_inertia(true)`, which refuses it.
 template <class S = double>
 class ModelBuilder {
  public:
   ModelBuilder() { model_.g_ = Vector3<S>(S(0), S(0), S(-9.81)); }
+
+  /// true: refuse inertias that break the triangle inequality (`ModelError`) instead of warning. Default false.
+  void set_strict_inertia(bool strict) { strict_inertia_ = strict; }
+  bool strict_inertia() const { return strict_inertia_; }
+  /// One message per body or fixed body accepted with a physically impossible inertia, in the order added, e.g.
+  /// "body 'foot' (joint 'ankle'): principal moments violate the triangle inequality: I1 + I2 = 0.02 < I3 = 0.03
+  /// kg m^2 (short by 0.01, 33.3 %)".
+  const std::vector<std::string>& warnings() const { return warnings_; }
 
   void set_gravity(const Vector3<S>& g) {
     if (!g.allFinite()) throw ModelError("gravity contains NaN or Inf");
@@ -427,8 +467,9 @@ class ModelBuilder {
     }
     if (!detail::all_finite(X_tree) || !detail::is_rotation(X_tree.E))
       throw ModelError(what + ": joint placement is not a finite rigid transform");
-    const std::string bad = detail::inertia_problem(inertia);
-    if (!bad.empty()) throw ModelError(what + ": " + bad);
+    const detail::InertiaProblem bad = detail::inertia_problem(inertia);
+    if (const std::string refused = bad.refusal(strict_inertia_); !refused.empty())
+      throw ModelError(what + ": " + refused);
     Vector3<S> a = axis;
     switch (type) {
       case JointType::RevoluteX: case JointType::PrismaticX: a = Vector3<S>::UnitX(); break;
@@ -447,6 +488,7 @@ class ModelBuilder {
     model_.type_.push_back(type);
     model_.body_names_.push_back(name);
     model_.joint_names_.push_back(joint_name.empty() ? name : joint_name);
+    if (!bad.warning.empty()) warnings_.push_back(what + ": " + bad.warning);
     return index;
   }
 
@@ -461,13 +503,15 @@ class ModelBuilder {
     }
     if (!detail::all_finite(X) || !detail::is_rotation(X.E))
       throw ModelError(what + ": placement is not a finite rigid transform");
-    const std::string bad = detail::inertia_problem(inertia);
-    if (!bad.empty()) throw ModelError(what + ": " + bad);
+    const detail::InertiaProblem bad = detail::inertia_problem(inertia);
+    if (const std::string refused = bad.refusal(strict_inertia_); !refused.empty())
+      throw ModelError(what + ": " + refused);
     if (parent >= 0)
       model_.I_[static_cast<std::size_t>(parent)] += inertia.transformed_inverse(X);
     else
       model_.base_mass_ += inertia.m;
     model_.frames_.push_back({name, parent, X});
+    if (!bad.warning.empty()) warnings_.push_back(what + ": " + bad.warning);
   }
 
   int size() const { return model_.size(); }
@@ -478,6 +522,8 @@ class ModelBuilder {
 
  private:
   Model<S> model_;
+  bool strict_inertia_ = false;
+  std::vector<std::string> warnings_;
 };
 
 namespace detail {
@@ -512,6 +558,7 @@ struct Data {
     sin_q = VectorN::Zero(n);
     H = MatrixN::Zero(n, n);
     L = MatrixN::Zero(n, n);
+    J = decltype(J)::Zero(6, n), dJ = J;
   }
 
   Array<Transform<S>> X_up{};    ///< ⁱX_λ(i): parent coordinates → body i coordinates
@@ -533,6 +580,9 @@ struct Data {
   VectorN cos_q, sin_q;          ///< cos qᵢ and sin qᵢ of the last configuration whose transforms were computed
   MatrixN H;                     ///< joint-space inertia (CRBA output); only ancestor–descendant entries non-zero
   MatrixN L;                     ///< LTDL factor of H: unit L below the diagonal, D on the diagonal
+  Eigen::Matrix<S, 6, NM> J, dJ; ///< kinematics.hpp: joint Jacobians (World, rows linear first) and their J̇
+  /// centroidal.hpp: centre of mass, its velocity and acceleration (base coordinates)
+  Vector3<S> com = Vector3<S>::Zero(), vcom = Vector3<S>::Zero(), acom = Vector3<S>::Zero();
 };
 
 }  // namespace spatial

@@ -220,12 +220,13 @@ struct RneaWork {
 };
 
 /// rnea_impl's AVX2 path (the same equations, the same outputs in `data`).
-template <unsigned Terms, class S, class T, class Q, class QD, class QDD, class Out>
+template <unsigned Terms, class S, class T, class Q, class QD, class QDD, class Out, class Root>
 void rnea(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q,
-          const Eigen::MatrixBase<QD>& qd, const Eigen::MatrixBase<QDD>& qdd, Out& tau) {
+          const Eigen::MatrixBase<QD>& qd, const Eigen::MatrixBase<QDD>& qdd, Out& tau, const Root& root) {
   constexpr bool G = (Terms & 1u) != 0;
   constexpr bool Vel = (Terms & 2u) != 0;
   constexpr bool A = (Terms & 4u) != 0;
+  constexpr bool R = Root::floating;  // a moving root (floating base): its v and a start the recursion
   constexpr int NB = T::size;
   static_assert(sizeof(Transform<double>) == 12 * sizeof(double) && sizeof(Motion<double>) == 6 * sizeof(double) &&
                     sizeof(Force<double>) == 6 * sizeof(double) && sizeof(Inertia<double>) == 13 * sizeof(double),
@@ -234,6 +235,11 @@ void rnea(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>
   RneaWork<NB> w;
   keep_in_memory(&w);
   const V g0 = _mm256_sub_pd(zero(), load3(model.gravity().data()));  // a₀ = −a_g = [0; −g]
+  V rvw = zero(), rvv = zero(), raw = zero(), rav = zero(), rfn = zero(), rff = zero();
+  if constexpr (R) {
+    rvw = load3(root.v.w.data()), rvv = load3(root.v.v.data());
+    raw = load3(root.a.w.data()), rav = load3(root.a.v.data());
+  }
 
   auto forward = [&](auto I) SPATIAL_LAMBDA_INLINE {
     constexpr int i = decltype(I)::value;
@@ -245,12 +251,15 @@ void rnea(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>
     V vw = zero(), vv = zero(), aw = zero(), av = zero();
     if constexpr (Vel) {
       if constexpr (p >= 0) apply_motion(col, r, w.vw[p], w.vv[p], vw, vv);
+      else if constexpr (R) apply_motion(col, r, rvw, rvv, vw, vv);
       vw = _mm256_add_pd(vw, axis<K>(double(qd[i])));
       w.vw[i] = vw;
       w.vv[i] = vv;
     }
     if constexpr (p >= 0) {
       apply_motion(col, r, w.aw[p], w.av[p], aw, av);
+    } else if constexpr (R) {
+      apply_motion(col, r, raw, rav, aw, av);
     } else if constexpr (G) {
       av = comb(col[0], col[1], col[2], g0);
     }
@@ -308,11 +317,24 @@ void rnea(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>
       apply_force_inverse(w.row[i], load3(model.tree_transform(i).r.data()), fn, ff, ang, lin);
       w.fn[p] = _mm256_add_pd(w.fn[p], ang);
       w.ff[p] = _mm256_add_pd(w.ff[p], lin);
+    } else if constexpr (R) {
+      V ang, lin;
+      apply_force_inverse(w.row[i], load3(model.tree_transform(i).r.data()), fn, ff, ang, lin);
+      rfn = _mm256_add_pd(rfn, ang);
+      rff = _mm256_add_pd(rff, lin);
     }
   };
 
   for_each_index(forward, std::make_integer_sequence<int, NB>{});
   for_each_index(backward, std::make_integer_sequence<int, NB>{});
+  if constexpr (R) {
+    Force<double> add;
+    store4(add.n.data(), rfn);
+    store3(add.f.data(), rff);
+    *root.f += add;
+  } else {
+    (void)root;
+  }
 }
 
 
@@ -329,9 +351,10 @@ SPATIAL_INLINE void for_each_ancestor(F& f) {
 /// crba_impl's AVX2 path: the same three passes and the same outputs in `data` (X_up, X_base, S_base, Ic, H). The
 /// transforms ⁱX_λ are composed again from data.cos_q and data.sin_q rather than read back from data.X_up: reading
 /// a 4-lane value that two stores wrote moments ago stalls until they retire, which costs more than the rotation.
-template <class S, class T>
-void crba(const Model<S, T>& model, Data<S, T>& data) {
+template <class S, class T, class Sink>
+void crba(const Model<S, T>& model, Data<S, T>& data, Sink& sink) {
   constexpr int NB = T::size;
+  constexpr bool Out = std::decay_t<Sink>::active;
   struct Body {
     V ucol[3], urow[3], ur;  // ⁱX_λ: columns and rows of E, r
     V col[3], row[3], r;     // ⁱX_0
@@ -414,16 +437,27 @@ void crba(const Model<S, T>& model, Data<S, T>& data) {
     // F = Iᶜ S = [Ī e_K; e_K × h]; Hᵢᵢ = Sᵀ F = Ī_KK.
     const V fn = B.ic[K];
     const V ff = _mm256_mul_pd(swap_other<K>(B.ih), _mm256_sub_pd(zero(), sign<K>()));
-    data.H(i, i) = get<K>(fn);
-    if constexpr (T::parent[i] >= 0) {
+    if constexpr (Out) sink.entry(i, i, get<K>(fn));
+    else data.H(i, i) = get<K>(fn);
+    if constexpr (T::parent[i] >= 0 || Out) {
       // F⁰ = ⁱX_0ᵀ F = [Eᵀ n + r × Eᵀ f; Eᵀ f]; H_ij = S⁰ⱼ · F⁰ for every ancestor j.
       V n0, f0;
       apply_force_inverse(B.row, B.r, fn, ff, n0, f0);
+      if constexpr (Out) {
+        Force<double> F0;
+        store4(F0.n.data(), n0);
+        store3(F0.f.data(), f0);
+        sink(i, F0);
+      }
       auto entry = [&](auto J) SPATIAL_LAMBDA_INLINE {
         constexpr int j = decltype(J)::value;
         const double hij = hsum(_mm256_fmadd_pd(b[j].sw, n0, _mm256_mul_pd(b[j].sv, f0)));
-        data.H(i, j) = hij;
-        data.H(j, i) = hij;
+        if constexpr (Out) {
+          sink.entry(i, j, hij);
+        } else {
+          data.H(i, j) = hij;
+          data.H(j, i) = hij;
+        }
       };
       for_each_ancestor<T, i>(entry);
     }
@@ -443,10 +477,11 @@ SPATIAL_INLINE void store_pair(double* p, V x, V y) {
 /// aba_impl's AVX2 path (no external forces): the same three passes and the same outputs in `data` (X_up, v, c,
 /// IA, pA, U, Dinv, u, a, qdd). The articulated inertia [A B; Bᵀ C] is kept as the columns of A, B and C; the
 /// rows of B (for U = Iᴬ S = [A e_K; Bᵀ e_K] and Bᵀ c) by one transpose per body.
-template <bool G, bool Vel, class S, class T, class Q, class QD, class Tau>
+template <bool G, bool Vel, class S, class T, class Q, class QD, class Tau, class Root>
 void aba(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<QD>& qd,
-         const Eigen::MatrixBase<Tau>& tau) {
+         const Eigen::MatrixBase<Tau>& tau, const Root& root) {
   constexpr int NB = T::size;
+  constexpr bool R = Root::floating;  // a moving root: pass 1 from its velocity, pass 2 into it, pass 3 from solve()
   static_assert(sizeof(ArticulatedInertia<double>) == 27 * sizeof(double), "unpadded articulated inertia");
   struct Body {
     V col[3], row[3], r;  // ⁱX_λ: columns and rows of E, r
@@ -461,6 +496,13 @@ void aba(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>&
   keep_in_memory(b);
   sincos_all<S>(q, data.cos_q, data.sin_q, NB);
   (void)qd;
+  Body rootb;  // the moving root: what its children pass to it in pass 2 (floating base only)
+  V rvw = zero(), rvv = zero();
+  if constexpr (R) {
+    for (int j = 0; j < 3; ++j) rootb.A[j] = rootb.B[j] = rootb.C[j] = zero();
+    rootb.pn = rootb.pf = zero();
+    rvw = load3(root.v.w.data()), rvv = load3(root.v.v.data());
+  }
 
   auto pass1 = [&](auto I) SPATIAL_LAMBDA_INLINE {
     constexpr int i = decltype(I)::value;
@@ -487,6 +529,8 @@ void aba(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>&
       if constexpr (p >= 0) {
         const Body& P = b[p];
         apply_motion(B.col, B.r, P.vw, P.vv, vw, vv);
+      } else if constexpr (R) {
+        apply_motion(B.col, B.r, rvw, rvv, vw, vv);
       }
       const double qdi = double(qd[i]);
       vw = _mm256_add_pd(vw, axis<K>(qdi));
@@ -536,7 +580,7 @@ void aba(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>&
     store_pair(data.U[k].n.data(), B.un, B.uf);
     data.Dinv[k] = B.dinv;
     data.u[k] = B.u;
-    if constexpr (p >= 0) {
+    if constexpr (p >= 0 || R) {
       // Iᵃ = Iᴬ − U Uᵀ / D
       const V d = bcast(B.dinv);
       const V wn = _mm256_mul_pd(B.un, d), wf = _mm256_mul_pd(B.uf, d);
@@ -571,7 +615,10 @@ void aba(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>&
       }
       // Xᵀ Iᵃ X (ArticulatedInertia::transformed_inverse): a = Eᵀ A E, b = Eᵀ B E, c = Eᵀ C E;
       // B′ = b + r̃ c, A′ = a − B′ r̃ + r̃ bᵀ, C′ = c.
-      Body& P = b[p];
+      Body& P = [&]() -> Body& {
+        if constexpr (p >= 0) return b[p];
+        else return rootb;
+      }();
       V rb[3], rbp[3];
       auto rotate = [&](auto J) SPATIAL_LAMBDA_INLINE {
         constexpr int j = decltype(J)::value;
@@ -604,6 +651,7 @@ void aba(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>&
   };
 
   const V g0 = _mm256_sub_pd(zero(), load3(model.gravity().data()));
+  V raw = zero(), rav = zero();
   auto pass3 = [&](auto I) SPATIAL_LAMBDA_INLINE {
     constexpr int i = decltype(I)::value;
     constexpr int p = T::parent[i];
@@ -614,6 +662,8 @@ void aba(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>&
     if constexpr (p >= 0) {
       const Body& P = b[p];
       apply_motion(B.col, B.r, P.aw, P.av, aw, av);
+    } else if constexpr (R) {
+      apply_motion(B.col, B.r, raw, rav, aw, av);
     } else if constexpr (G) {
       av = comb(B.col[0], B.col[1], B.col[2], g0);
     }
@@ -631,6 +681,29 @@ void aba(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>&
 
   for_each_index(pass1, std::make_integer_sequence<int, NB>{});
   for_each_index(pass2, std::make_integer_sequence<int, NB>{});
+  if constexpr (R) {
+    // The root's articulated inertia and bias force are complete: add them in, solve for its acceleration.
+    ArticulatedInertia<double> IA;
+    double* ia = IA.A.data();
+    store4(ia, rootb.A[0]);
+    store4(ia + 3, rootb.A[1]);
+    store4(ia + 6, rootb.A[2]);
+    store4(ia + 9, rootb.B[0]);
+    store4(ia + 12, rootb.B[1]);
+    store4(ia + 15, rootb.B[2]);
+    store4(ia + 18, rootb.C[0]);
+    store4(ia + 21, rootb.C[1]);
+    store3(ia + 24, rootb.C[2]);
+    *root.IA += IA;
+    Force<double> pA;
+    store_pair(pA.n.data(), rootb.pn, rootb.pf);
+    *root.pA += pA;
+    const Motion<double> a0 = root.solve();
+    raw = load3(a0.w.data());
+    rav = load3(a0.v.data());
+  } else {
+    (void)root, (void)raw, (void)rav;
+  }
   for_each_index(pass3, std::make_integer_sequence<int, NB>{});
 }
 

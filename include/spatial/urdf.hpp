@@ -17,9 +17,11 @@
 ///  1. Parses the file with urdfdom. urdfdom returns null and prints to stderr on some errors, and on others
 ///     (a malformed `<inertial>`, for instance) only logs an error and drops the element. The loader captures
 ///     urdfdom's log while it parses, and any logged error rejects the file with urdfdom's own words.
-///  2. Checks every number itself (NaN/Inf, negative mass, an inertia that is not positive semi-definite or breaks
-///     the triangle inequality, a zero or non-finite axis, inverted limits) and the graph (one root, no link with
-///     two parent joints, no loop).
+///  2. Checks every number itself (NaN/Inf, negative mass, an inertia that is not positive semi-definite, a zero or
+///     non-finite axis, inverted limits) and the graph (one root, no link with two parent joints, no loop). A link
+///     inertia whose principal moments break the triangle inequality (I1 + I2 < I3: physically impossible, but the
+///     spatial inertia stays positive semi-definite, so the algorithms are unaffected; common in CAD exports) is
+///     loaded with a message in `LoadedModel::warnings`, or refused with `LoadOptions::strict_inertia`.
 ///  3. Roots the tree at `LoadOptions::root` (any link), keeps only the subtree below `LoadOptions::subtree` if
 ///     asked, and walks it depth first from the root, children in the order their joints appear in the file.
 ///     Joints walked against their URDF direction are *reversed* (`JointInfo::reversed`): the same q moves the
@@ -97,6 +99,16 @@ struct LoadOptions {
   /// Turn body frames by π where needed so that joints about/along −x, −y, −z become the axis-aligned joint types
   /// (same q, same physics, fewer flops). false: keep the body frames and use RevoluteAxis/PrismaticAxis for them.
   bool axis_aligned = true;
+  /// Make the base link (`root`, or `subtree` when given) free-flying: `LoadedModel::floating` is set and
+  /// `floating_model(loaded)` gives the `FloatingModel` (free-flyer `floating_base` at the base link's frame, its
+  /// inertia = `base_inertia`, gravity in world coordinates). A URDF whose root link is massless and attached to the
+  /// rest by a single `floating` joint (the "world" link convention) is loaded floating from that joint's child
+  /// whatever this option says.
+  bool floating = false;
+  /// Refuse (`ModelError`) link inertias whose principal moments break the triangle inequality, instead of loading
+  /// them with a warning (`LoadedModel::warnings`). Inertias the algorithms cannot work with (negative mass, not
+  /// positive semi-definite about the centre of mass, NaN/Inf, …) are refused either way.
+  bool strict_inertia = false;
 };
 
 /// What the model keeps of a URDF joint that moves a body (one per body, model order).
@@ -131,6 +143,15 @@ struct LoadedModel {
   Inertia<double> base_inertia = Inertia<double>::Zero();
   std::string root;    ///< the link the model is rooted at
   std::string source;  ///< file name or the name given to `load_string`
+  /// The base link is free-flying (`LoadOptions::floating`, or a URDF `floating` joint from a massless root link):
+  /// use `floating_model(*this)`.
+  bool floating = false;
+  /// What was loaded although it is suspect (today: link inertias breaking the triangle inequality), one message
+  /// per link of the file (also links outside `LoadOptions::subtree`: strict mode refuses those too) in link-name
+  /// order, each starting like the errors with the source and naming the link, e.g.
+  /// "robot.urdf: link 'foot': principal moments violate the triangle inequality: I1 + I2 = 0.02 < I3 = 0.03 kg m^2
+  /// (short by 0.01, 33.3 %)". Empty for a clean file; never filled with `LoadOptions::strict_inertia`.
+  std::vector<std::string> warnings;
 
   /// Index in `links` of the link with that name, or −1.
   int link_index(const std::string& name) const {
@@ -289,10 +310,12 @@ struct Description {
   std::vector<int> parent_joint;     // per link, −1 for the root
   std::vector<std::vector<int>> adjacent;  // per link, joints touching it, in joint order
   int root = -1;
+  std::vector<std::string> warnings;  // "source: link 'x': …", in link order
 };
 
+/// `strict_inertia`: refuse link inertias that break the triangle inequality (otherwise: `warnings`).
 inline Description describe(const urdf::ModelInterface& urdf, const std::vector<std::string>& order,
-                            const std::string& source) {
+                            const std::string& source, bool strict_inertia = false) {
   Description d;
   // Links, in name order (urdfdom keeps them in a map).
   for (const auto& [name, link] : urdf.links_) {
@@ -311,11 +334,14 @@ inline Description describe(const urdf::ModelInterface& urdf, const std::vector<
       const Pose T = to_pose(in.origin);
       const Eigen::Matrix3d I_link = T.linear() * Ic * T.linear().transpose();
       rec.inertia = Inertia<double>::from_com(in.mass, T.translation(), I_link);
-      // Check the inertia as given (about the CoM), then the one derived from it (overflow to Inf).
-      const std::string bad_com = spatial::detail::inertia_problem(Inertia<double>(in.mass, Eigen::Vector3d::Zero(), Ic));
-      if (!bad_com.empty()) fail(source, what + bad_com);
-      const std::string bad = spatial::detail::inertia_problem(rec.inertia);
+      // Check the inertia as given (about the CoM), then the one derived from it (overflow to Inf; its warning, if
+      // any, is the same as the first one's).
+      const spatial::detail::InertiaProblem com =
+          spatial::detail::inertia_problem(Inertia<double>(in.mass, Eigen::Vector3d::Zero(), Ic));
+      if (const std::string refused = com.refusal(strict_inertia); !refused.empty()) fail(source, what + refused);
+      const std::string bad = spatial::detail::inertia_problem(rec.inertia).error;
       if (!bad.empty()) fail(source, what + "inertia about the link origin: " + bad);
+      if (!com.warning.empty()) d.warnings.push_back(source + ": " + what + com.warning);
     }
     d.link_id[name] = static_cast<int>(d.links.size());
     d.links.push_back(rec);
@@ -497,6 +523,30 @@ inline LoadedModel build(const Description& d, const LoadOptions& opt, const std
     }
   }
 
+  // A URDF `floating` joint from a massless root link (a "world" link) to the rest: free-flying from its child.
+  bool floating = opt.floating;
+  if (opt.root.empty() && opt.subtree.empty()) {
+    const auto& adj = d.adjacent[static_cast<std::size_t>(base)];
+    const LinkRec& world = d.links[static_cast<std::size_t>(base)];
+    if (adj.size() == 1 && d.joints[static_cast<std::size_t>(adj[0])].kind == Kind::Floating) {
+      const JointRec& j = d.joints[static_cast<std::size_t>(adj[0])];
+      if (world.inertia.m != 0.0 || world.inertia.I.norm() != 0.0)
+        fail(source, "joint " + quote(j.name) + " is of type floating but its parent link " + quote(world.name) +
+                         " has mass: a floating joint is supported only from a massless root link (the world)");
+      base = j.child;
+      floating = true;
+      std::fill(kept.begin(), kept.end(), 0);
+      kept[static_cast<std::size_t>(base)] = 1;
+      for (int l : order) {
+        const int k = towards_root[static_cast<std::size_t>(l)];
+        if (k < 0) continue;
+        const JointRec& jk = d.joints[static_cast<std::size_t>(k)];
+        const int up = jk.parent == l ? jk.child : jk.parent;
+        if (kept[static_cast<std::size_t>(up)] && up != root) kept[static_cast<std::size_t>(l)] = 1;
+      }
+    }
+  }
+
   // Gravity, in the base frame.
   Eigen::Vector3d g = opt.gravity ? *opt.gravity : Eigen::Vector3d(0, 0, -9.81);
   if (!g.allFinite()) fail(source, "gravity contains NaN or Inf");
@@ -514,8 +564,13 @@ inline LoadedModel build(const Description& d, const LoadOptions& opt, const std
 
   LoadedModel out;
   out.source = source;
+  out.floating = floating;
   out.root = d.links[static_cast<std::size_t>(base)].name;
+  out.warnings = d.warnings;
   ModelBuilder<double> builder;
+  // The builder sees the same link inertias, moved into body frames: its warnings repeat those of `describe` and
+  // are not copied (one warning per link).
+  builder.set_strict_inertia(opt.strict_inertia);
   builder.set_gravity(g);
 
   // Depth-first walk from the base over the kept links, children in joint order.
@@ -555,7 +610,8 @@ inline LoadedModel build(const Description& d, const LoadOptions& opt, const std
         } else {
           if (j.kind != Kind::Revolute && j.kind != Kind::Continuous && j.kind != Kind::Prismatic)
             fail(source, "joint " + quote(j.name) + " is of type " + kind_name(j.kind) +
-                             ", which is not supported (supported: revolute, continuous, prismatic, fixed)");
+                             ", which is not supported (supported: revolute, continuous, prismatic, fixed; floating "
+                             "only from a massless root link, or LoadOptions::floating for the base link)");
           if (!j.mimic.empty())
             fail(source, "joint " + quote(j.name) + " mimics joint " + quote(j.mimic) +
                              ": mimic joints are not supported (lock it, or remove the <mimic> element to make it "
@@ -701,7 +757,7 @@ inline urdf::ModelInterfaceSharedPtr parse(const std::string& xml, const std::st
 /// keep the document order). Throws `ModelError`.
 inline LoadedModel load_model(const urdf::ModelInterface& urdf, const LoadOptions& options = {},
                               const std::string& source_name = "<urdf model>") {
-  const detail::Description d = detail::describe(urdf, {}, source_name);
+  const detail::Description d = detail::describe(urdf, {}, source_name, options.strict_inertia);
   return detail::build(d, options, source_name);
 }
 
@@ -713,7 +769,8 @@ inline LoadedModel load_string(const std::string& xml, const LoadOptions& option
     urdf::ModelInterface& model;
     ~CutCycles() { detail::cut_cycles(model); }
   } cut{*m};
-  const detail::Description d = detail::describe(*m, detail::joint_document_order(xml), source_name);
+  const detail::Description d =
+      detail::describe(*m, detail::joint_document_order(xml), source_name, options.strict_inertia);
   return detail::build(d, options, source_name);
 }
 
@@ -738,6 +795,15 @@ Model<double, TreeT> to_static(const LoadedModel& loaded) {
   } catch (const ModelError& e) {
     throw ModelError(loaded.source + ": " + e.what());
   }
+}
+
+/// The floating-base model of a model loaded with `LoadOptions::floating` (or from a URDF floating joint): the
+/// free-flyer at the base link's frame, its inertia `base_inertia`, the joints' tree `model` (whose gravity is read
+/// as world coordinates). Throws `ModelError` if the model was not loaded floating.
+inline FloatingModel<double> floating_model(const LoadedModel& loaded) {
+  if (!loaded.floating)
+    throw ModelError(loaded.source + ": the model was loaded with a fixed base (set LoadOptions::floating)");
+  return FloatingModel<double>(loaded.model, loaded.base_inertia, loaded.root);
 }
 
 /// Throws `ModelError` if some joint moves no mass (its whole subtree is massless), which makes the joint-space

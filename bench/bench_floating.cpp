@@ -1,0 +1,86 @@
+// Run time of the floating-base algorithms on floating27 (the HOAP-3 free-flying at the pelvis, nv = 27;
+// bench_floating.hpp): RNEA, CRBA, ABA and forward dynamics by CRBA + LTDL; all joint Jacobians (JointJacobians),
+// the left sole's Jacobian from them (FrameJacobian) and in one walk (ComputeFrameJacobian), both
+// LOCAL_WORLD_ALIGNED; the CoM Jacobian (ComJacobian) and the centroidal momentum matrix (CentroidalMatrix);
+// compile-time and run-time trees, double. Names "spatial/<algorithm>/floating27/double/<static|runtime>";
+// bench_pinocchio times Pinocchio's free-flyer model of the same robot on the same states (computeJointJacobians,
+// getFrameJacobian, computeFrameJacobian, jacobianCenterOfMass, ccrba).
+#include "bench_common.hpp"
+#include "bench_floating.hpp"
+
+namespace {
+using namespace spatial;
+using namespace spatial::bench;
+
+template <class S, class TreeT>
+struct FloatingFixture {
+  FloatingModel<S, TreeT> model;
+  FloatingData<S, TreeT> data;
+  FloatingPool<S, FloatingModel<S, TreeT>::NQ, FloatingModel<S, TreeT>::NV> pool;
+  Eigen::Matrix<S, 6, FloatingModel<S, TreeT>::NV> J, Ag;
+  Eigen::Matrix<S, 3, FloatingModel<S, TreeT>::NV> Jc;
+  int frame;
+  explicit FloatingFixture(const FloatingModel<S, TreeT>& m)
+      : model(m), data(model),
+        pool(floating_pool().template cast<S, FloatingModel<S, TreeT>::NQ, FloatingModel<S, TreeT>::NV>()),
+        J(6, model.nv()), Ag(6, model.nv()), Jc(3, model.nv()), frame(floating27_frame()) {}
+};
+
+template <class S, class TreeT>
+void register_floating(const std::string& tree, const FloatingModel<S, TreeT>& model) {
+  using Fx = FloatingFixture<S, TreeT>;
+  auto fx = std::make_shared<Fx>(model);
+  const auto name = [&](const char* algorithm) {
+    return bench_name("spatial", algorithm, "floating27", scalar_name<S>(), tree);
+  };
+  const auto at = [](const auto& v, int k) -> const auto& { return v[static_cast<std::size_t>(k)]; };
+  register_one(name("RNEA"), fx, [at](Fx& f, int k) {
+    benchmark::DoNotOptimize(rnea(f.model, f.data, at(f.pool.q, k), at(f.pool.v, k), at(f.pool.u, k)).data());
+  });
+  register_one(name("CRBA"), fx, [at](Fx& f, int k) {
+    benchmark::DoNotOptimize(crba(f.model, f.data, at(f.pool.q, k)).data());
+  });
+  register_one(name("ABA"), fx, [at](Fx& f, int k) {
+    benchmark::DoNotOptimize(aba(f.model, f.data, at(f.pool.q, k), at(f.pool.v, k), at(f.pool.u, k)).data());
+  });
+  register_one(name("FD_CRBA_LTDL"), fx, [at](Fx& f, int k) {
+    benchmark::DoNotOptimize(
+        forward_dynamics_crba(f.model, f.data, at(f.pool.q, k), at(f.pool.v, k), at(f.pool.u, k)).data());
+  });
+  register_one(name("JointJacobians"), fx, [at](Fx& f, int k) {
+    benchmark::DoNotOptimize(compute_joint_jacobians(f.model, f.data, at(f.pool.q, k)).data());
+  });
+  // From the joint Jacobians of the last state (Pinocchio's getFrameJacobian after computeJointJacobians).
+  compute_joint_jacobians(fx->model, fx->data, fx->pool.q[0]);
+  register_one(name("FrameJacobian"), fx, [](Fx& f, int) {
+    frame_jacobian(f.model, f.data, f.frame, ReferenceFrame::LocalWorldAligned, f.J);
+    benchmark::DoNotOptimize(f.J.data());
+    benchmark::ClobberMemory();
+  });
+  register_one(name("ComputeFrameJacobian"), fx, [at](Fx& f, int k) {
+    compute_frame_jacobian(f.model, f.data, at(f.pool.q, k), f.frame, ReferenceFrame::LocalWorldAligned, f.J);
+    benchmark::DoNotOptimize(f.J.data());
+    benchmark::ClobberMemory();
+  });
+  register_one(name("ComJacobian"), fx, [at](Fx& f, int k) {
+    com_jacobian(f.model, f.data, at(f.pool.q, k), f.Jc);
+    benchmark::DoNotOptimize(f.Jc.data());
+    benchmark::ClobberMemory();
+  });
+  register_one(name("CentroidalMatrix"), fx, [at](Fx& f, int k) {
+    centroidal_momentum_matrix(f.model, f.data, at(f.pool.q, k), f.Ag);
+    benchmark::DoNotOptimize(f.Ag.data());
+    benchmark::ClobberMemory();
+  });
+}
+
+const bool registered = [] {
+  add_build_context();
+  register_floating<double>("static", floating27());
+  register_floating<double>("runtime", floating_to_runtime(floating27()));
+  return true;
+}();
+
+}  // namespace
+
+BENCHMARK_MAIN();
