@@ -87,6 +87,39 @@ TEST(Io, DescribeLoadedModelMatchesSpatialDynInfo) {
   EXPECT_FALSE(contains(w, "massless:  none")) << w;
 }
 
+// A floating base: the free-flyer line, the whole mass with the root body, the CoM in the root frame; a model loaded
+// with LoadOptions::floating is described the same way, with the URDF limits.
+TEST(Io, DescribeFloatingModel) {
+  uio::LoadOptions opt;
+  opt.floating = true;
+  for (const auto& j : stance::locked_joints) opt.locked.emplace_back(std::string(j), 0.0);
+  const uio::LoadedModel loaded = uio::load_file(spatial::urdf_path("hoap3.urdf"), opt);
+  const FloatingModel<double> model = uio::floating_model(loaded);
+  const std::string d = describe(model);
+  EXPECT_EQ(d.rfind("root:      base_link (free-flying: joint 'floating_base', nq = 28, nv = 27;", 0), 0u) << d;
+  EXPECT_TRUE(contains(d, "model:     21 joints (dof), run-time tree")) << d;
+  EXPECT_TRUE(contains(d, "m/s^2 (world frame)")) << d;
+  std::ostringstream mass;
+  mass.precision(12);
+  mass << "mass:      " << model.total_mass() << " kg (moving bodies " << model.tree().total_mass() << " kg, root body "
+       << model.root_inertia().m << " kg)";
+  EXPECT_TRUE(contains(d, mass.str())) << d << "\nexpected: " << mass.str();
+  EXPECT_NEAR(model.total_mass(), 8.8024, 1e-9);
+  // The CoM printed is that of the whole robot at the neutral configuration (root frame = world frame there).
+  FloatingData<double> data(model);
+  const Eigen::Vector3d c = center_of_mass(model, data, neutral(model));
+  std::ostringstream com;
+  com.precision(12);
+  com << "com:       " << c.x() << " " << c.y() << " " << c.z() << " m at q = 0 (whole body, root frame)";
+  EXPECT_TRUE(contains(d, com.str())) << d << "\nexpected: " << com.str();
+  EXPECT_FALSE(contains(d, "fixed base")) << d;
+  EXPECT_FALSE(contains(d, " \n")) << "trailing blanks";
+  const std::string l = describe(loaded);
+  EXPECT_EQ(l.rfind("root:      base_link (free-flying", 0), 0u) << l;
+  EXPECT_TRUE(contains(l, "-0.4363")) << l;  // limits of the URDF
+  EXPECT_TRUE(contains(l, com.str())) << l;
+}
+
 // spatial::urdf_dir (<spatial/robots.hpp>) in the build tree: the source tree's urdf/ (the installed path is checked
 // by the packaging test).
 TEST(Robots, UrdfDirInTheBuildTreeIsTheSourceTree) {

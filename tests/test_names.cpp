@@ -2,6 +2,7 @@
 // models; "did you mean …?" in the errors for unknown joint, body and link names.
 
 #include <spatial/spatial.hpp>
+#include <spatial/models/hoap3_floating.hpp>
 #include <spatial/models/hoap3_stance_right.hpp>
 #include <spatial/urdf.hpp>
 
@@ -67,6 +68,33 @@ TEST(Names, FrameIndexOnReducedModels) {
   EXPECT_EQ(arms.model.joint_index("CHEST_R_SFE_joint"), 0);
   EXPECT_EQ(arms.model.body_index("L_EB"), 7);
   EXPECT_EQ(arms.model.joint_index("R_LFE_R_KN_joint"), -1);  // locked
+}
+
+// FloatingModel forwards the look-ups to its tree (q index 7 + i, v index 6 + i); the root body is not a tree body.
+TEST(Names, IndexLookupsOnFloatingModels) {
+  namespace fb = spatial::models::hoap3_floating;
+  uio::LoadOptions opt;
+  opt.floating = true;
+  for (const auto& j : fb::locked_joints) opt.locked.emplace_back(std::string(j), 0.0);
+  const auto loaded = uio::load_file(kHoap3, opt);
+  const FloatingModel<double> rt = uio::floating_model(loaded);
+  const auto ct = fb::floating_model();
+  for (int i = 0; i < fb::dof; ++i) {
+    const std::string j(fb::joint_names[static_cast<std::size_t>(i)]), b(fb::body_names[static_cast<std::size_t>(i)]);
+    EXPECT_EQ(rt.joint_index(j), i) << j;
+    EXPECT_EQ(ct.joint_index(j), i) << j;
+    EXPECT_EQ(rt.body_index(b), i) << b;
+    EXPECT_EQ(ct.body_index(b), i) << b;
+  }
+  for (std::size_t k = 0; k < fb::frame_names.size(); ++k) {
+    const std::string f(fb::frame_names[k]);
+    EXPECT_EQ(rt.frame_index(f), fb::frame_index(f)) << f;
+    EXPECT_EQ(ct.frame_index(f), fb::frame_index(f)) << f;
+    EXPECT_EQ(rt.tree().frames()[static_cast<std::size_t>(rt.frame_index(f))].body, fb::frame_bodies[k]) << f;
+  }
+  EXPECT_EQ(rt.body_index(rt.root_name()), -1);
+  EXPECT_EQ(rt.joint_index(kFreeFlyerName), -1);
+  EXPECT_EQ(rt.frame_index("R_SOLE_typo"), -1);
 }
 
 TEST(Names, EditDistanceAndClosestName) {

@@ -11,6 +11,7 @@
 
 #include "spatial/algebra.hpp"
 #include "spatial/algorithms.hpp"
+#include "spatial/floating.hpp"
 #include "spatial/joints.hpp"
 #include "spatial/model.hpp"
 
@@ -114,13 +115,17 @@ inline std::string limit_cell(const std::vector<double>& v, std::size_t k) {
 }
 
 /// `describe` with the base's inertia (mass and first moment, base coordinates) added to the whole body, when known.
+/// `floating`: the base is the free-flying root body of a `FloatingModel` (gravity in world coordinates).
 template <class S, class T>
-std::string describe_impl(const Model<S, T>& model, const JointLimits& limits, const Inertia<double>* base) {
+std::string describe_impl(const Model<S, T>& model, const JointLimits& limits, const Inertia<double>* base,
+                          bool floating = false) {
+  const char* base_name = floating ? "root body" : "fixed base";
+  const char* base_frame = floating ? "root frame" : "base frame";
   const int n = model.size();
   std::ostringstream o;
   o << "model:     " << n << " joints (dof), " << (Model<S, T>::is_static ? "compile-time" : "run-time") << " tree\n"
     << "gravity:   " << human(double(model.gravity().x())) << " " << human(double(model.gravity().y())) << " "
-    << human(double(model.gravity().z())) << " m/s^2 (base frame)\n";
+    << human(double(model.gravity().z())) << " m/s^2 (" << (floating ? "world frame" : "base frame") << ")\n";
   const std::vector<int> massless = model.massless_joints();
   std::size_t wj = 5, wb = 4;
   for (int i = 0; i < n; ++i) {
@@ -157,14 +162,14 @@ std::string describe_impl(const Model<S, T>& model, const JointLimits& limits, c
     first_moment += base->h;
     whole = moving + base->m;
   }
-  o << "mass:      " << human(whole) << " kg (moving bodies " << human(moving) << " kg, fixed base "
+  o << "mass:      " << human(whole) << " kg (moving bodies " << human(moving) << " kg, " << base_name << " "
     << human(base ? base->m : double(model.base_mass())) << " kg)\n";
   const double com_mass = base ? whole : moving;
   o << "com:       ";
   if (com_mass > 0) {
     const Eigen::Vector3d c = first_moment / com_mass;
     o << human(c.x()) << " " << human(c.y()) << " " << human(c.z()) << " m at q = 0 ("
-      << (base ? "whole body" : "moving bodies") << ", base frame)\n";
+      << (base ? "whole body" : "moving bodies") << ", " << base_frame << ")\n";
   } else {
     o << "none (no mass)\n";
   }
@@ -176,7 +181,8 @@ std::string describe_impl(const Model<S, T>& model, const JointLimits& limits, c
   if (model.frames().empty()) o << "none";
   for (std::size_t k = 0; k < model.frames().size(); ++k) {
     const auto& f = model.frames()[k];
-    o << (k ? ", " : "") << f.name << " (" << (f.body < 0 ? std::string("base") : model.body_name(f.body)) << ")";
+    o << (k ? ", " : "") << f.name << " ("
+      << (f.body < 0 ? std::string(floating ? "root" : "base") : model.body_name(f.body)) << ")";
   }
   o << "\n";
   return o.str();
@@ -187,7 +193,15 @@ struct is_loaded_model : std::false_type {};
 template <class L>
 struct is_loaded_model<L, std::void_t<decltype(std::declval<const L&>().model),
                                       decltype(std::declval<const L&>().joints[0].lower),
-                                      decltype(std::declval<const L&>().base_inertia)>> : std::true_type {};
+                                      decltype(std::declval<const L&>().base_inertia),
+                                      decltype(std::declval<const L&>().floating)>> : std::true_type {};
+
+template <class S, class T>
+std::string floating_header(const FloatingModel<S, T>& model) {
+  return "root:      " + model.root_name() + " (free-flying: joint '" + kFreeFlyerName + "', nq = " +
+         std::to_string(model.nq()) + ", nv = " + std::to_string(model.nv()) +
+         "; q = [x y z qx qy qz qw, joints], v = [v w in root coordinates, joints])\n";
+}
 }  // namespace detail
 
 /// A summary of the model for people, like `spatial-dyn info`: one line per joint in model order (joint, body,
@@ -198,8 +212,17 @@ std::string describe(const Model<S, T>& model, const JointLimits& limits = {}) {
   return detail::describe_impl(model, limits, nullptr);
 }
 
+/// The same for a floating-base model: the free-flyer (root body, nq, nv), then the tree's joints, the whole mass
+/// (root body included), the centre of mass of the whole robot at the neutral configuration (root frame).
+template <class S, class T>
+std::string describe(const FloatingModel<S, T>& model, const JointLimits& limits = {}) {
+  const Inertia<double> root = model.root_inertia().template cast<double>();
+  return detail::floating_header(model) + detail::describe_impl(model.tree(), limits, &root, true);
+}
+
 /// The same for a URDF model (`urdf_io::LoadedModel`): with the URDF limits, and the whole-body centre of mass
-/// (the links merged into the fixed base included), as `spatial-dyn info` prints them.
+/// (the links merged into the fixed base included), as `spatial-dyn info` prints them. A model loaded floating
+/// (`LoadOptions::floating`) is described as `describe(urdf_io::floating_model(loaded))` with the URDF limits.
 template <class Loaded, std::enable_if_t<detail::is_loaded_model<Loaded>::value, int> = 0>
 std::string describe(const Loaded& loaded) {
   JointLimits l;
@@ -210,6 +233,9 @@ std::string describe(const Loaded& loaded) {
     l.velocity.push_back(j.velocity);
   }
   const Inertia<double> base = loaded.base_inertia;
+  if (loaded.floating)
+    return detail::floating_header(FloatingModel<double>(loaded.model, loaded.base_inertia, loaded.root)) +
+           detail::describe_impl(loaded.model, l, &base, true);
   return "root:      " + loaded.root + " (the fixed base)\n" + detail::describe_impl(loaded.model, l, &base);
 }
 
