@@ -15,6 +15,7 @@
 #include "spatial/joints.hpp"
 #include "spatial/model.hpp"
 #include "spatial/simd.hpp"
+#include "spatial/sizes.hpp"
 #include "spatial/sincos.hpp"
 
 #include <array>
@@ -337,6 +338,7 @@ template <class S, class T, class Q, class QD, class QDD, class Ext = NoExternal
 const typename Data<S, T>::VectorN& rnea(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q,
                                          const Eigen::MatrixBase<QD>& qd, const Eigen::MatrixBase<QDD>& qdd,
                                          const Ext& fext = Ext(), ForceFrame frame = ForceFrame::Body) {
+  detail::check_sizes(model, "rnea", "q", q, "qd", qd, "qdd", qdd);
   using namespace detail;
   rnea_impl<kGravity | kVelocity | kAcceleration>(model, data, q, qd, qdd, fext, frame, data.tau);
   return data.tau;
@@ -347,6 +349,7 @@ const typename Data<S, T>::VectorN& rnea(const Model<S, T>& model, Data<S, T>& d
 template <class S, class T, class Q, class QD>
 const typename Data<S, T>::VectorN& bias_forces(const Model<S, T>& model, Data<S, T>& data,
                                                 const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<QD>& qd) {
+  detail::check_sizes(model, "bias_forces", "q", q, "qd", qd);
   using namespace detail;
   rnea_impl<kGravity | kVelocity>(model, data, q, qd, qd, NoExternalForces{}, ForceFrame::Body, data.tau);
   return data.tau;
@@ -358,6 +361,7 @@ const typename Data<S, T>::VectorN& bias_forces(const Model<S, T>& model, Data<S
 template <class S, class T, class Q>
 const typename Data<S, T>::VectorN& gravity_torques(const Model<S, T>& model, Data<S, T>& data,
                                                     const Eigen::MatrixBase<Q>& q) {
+  detail::check_sizes(model, "gravity_torques", "q", q);
 #if SPATIAL_SIMD_AVX2
   // The AVX2 RNEA with gravity alone is as fast as the scalar path below under g++ and 10 % faster under clang.
   if constexpr (detail::simd_enabled<S, T>()) {
@@ -373,6 +377,7 @@ const typename Data<S, T>::VectorN& gravity_torques(const Model<S, T>& model, Da
 /// ⁱX_0 = (E, r), r is body i's origin in base coordinates and Eᵀ its orientation (body axes in base coordinates).
 template <class S, class T, class Q>
 void forward_kinematics(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q) {
+  detail::check_sizes(model, "forward_kinematics", "q", q);
   detail::joint_sincos(model, data, q);
 #if SPATIAL_SIMD_AVX2
   if constexpr (detail::simd_enabled<S, T>()) {
@@ -409,6 +414,7 @@ Eigen::Transform<S, 3, Eigen::Isometry> frame_pose(const Model<S, T>& model, con
 template <class S, class T, class Q, class QD>
 void forward_velocities(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q,
                         const Eigen::MatrixBase<QD>& qd) {
+  detail::check_sizes(model, "forward_velocities", "q", q, "qd", qd);
   detail::joint_sincos(model, data, q);
   for_each_body(model, [&](auto I) {
     const int i = I;
@@ -424,6 +430,7 @@ void forward_velocities(const Model<S, T>& model, Data<S, T>& data, const Eigen:
 template <class S, class T, class Q, class QD>
 S kinetic_energy(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q,
                  const Eigen::MatrixBase<QD>& qd) {
+  detail::check_sizes(model, "kinetic_energy", "q", q, "qd", qd);
   forward_velocities(model, data, q, qd);
   S e = S(0);
   for (int i = 0; i < model.size(); ++i) {
@@ -436,6 +443,7 @@ S kinetic_energy(const Model<S, T>& model, Data<S, T>& data, const Eigen::Matrix
 /// Potential energy −Σ mᵢ g · cᵢ (cᵢ: body i's centre of mass in base coordinates), zero at the base origin.
 template <class S, class T, class Q>
 S potential_energy(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q) {
+  detail::check_sizes(model, "potential_energy", "q", q);
   forward_kinematics(model, data, q);
   Vector3<S> first_moment = Vector3<S>::Zero();  // Σ mᵢ cᵢ in base coordinates
   for (int i = 0; i < model.size(); ++i) {
@@ -448,6 +456,7 @@ S potential_energy(const Model<S, T>& model, Data<S, T>& data, const Eigen::Matr
 /// Centre of mass of the moving bodies, in base coordinates.
 template <class S, class T, class Q>
 Vector3<S> center_of_mass(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q) {
+  detail::check_sizes(model, "center_of_mass", "q", q);
   forward_kinematics(model, data, q);
   Vector3<S> first_moment = Vector3<S>::Zero();
   S mass = S(0);
@@ -525,6 +534,7 @@ void crba_impl(const Model<S, T>& model, Data<S, T>& data, Sink&& sink = Sink{})
 /// zeroed when `data` was built). Returns `data.H`.
 template <class S, class T, class Q>
 const typename Data<S, T>::MatrixN& crba(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q) {
+  detail::check_sizes(model, "crba", "q", q);
   detail::crba_inputs(model, data, q);
   detail::crba_impl(model, data);
   return data.H;
@@ -564,6 +574,7 @@ void ltdl(const Model<S, T>& model, Data<S, T>& data) {
 /// x ← L⁻ᵀ x, x ← D⁻¹ x, x ← L⁻¹ x.
 template <class S, class T, class X>
 void ltdl_solve(const Model<S, T>& model, const Data<S, T>& data, Eigen::MatrixBase<X>& x) {
+  detail::check_sizes(model, "ltdl_solve", "x", x);
   const auto& L = data.L;
   for_each_body_reverse(model, [&](auto I) {
     const int i = I;
@@ -609,6 +620,7 @@ const typename Data<S, T>::VectorN& forward_dynamics_crba(const Model<S, T>& mod
                                                           const Eigen::MatrixBase<Q>& q,
                                                           const Eigen::MatrixBase<QD>& qd,
                                                           const Eigen::MatrixBase<Tau>& tau) {
+  detail::check_sizes(model, "forward_dynamics_crba", "q", q, "qd", qd, "tau", tau);
   detail::forward_dynamics_crba_impl<detail::kGravity | detail::kVelocity>(model, data, q, qd, tau);
   return data.qdd;
 }
@@ -731,6 +743,7 @@ template <class S, class T, class Q, class QD, class Tau, class Ext = NoExternal
 const typename Data<S, T>::VectorN& aba(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q,
                                         const Eigen::MatrixBase<QD>& qd, const Eigen::MatrixBase<Tau>& tau,
                                         const Ext& fext = Ext(), ForceFrame frame = ForceFrame::Body) {
+  detail::check_sizes(model, "aba", "q", q, "qd", qd, "tau", tau);
   detail::aba_impl<true, true>(model, data, q, qd, tau, fext, frame);
   return data.qdd;
 }

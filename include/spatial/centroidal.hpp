@@ -133,6 +133,8 @@ MomentumSums<S> momentum_pass(const Model<S, T>& model, Data<S, T>& data, const 
                               const Eigen::MatrixBase<V>& v, const Eigen::MatrixBase<A>& a, const Motion<S>& v0,
                               const Motion<S>& a0) {
   (void)a, (void)v0, (void)a0;
+  if constexpr (Acc) check_sizes(model, "centroidal", "q", q, "v", v, "a", a);
+  else check_sizes(model, "centroidal", "q", q, "v", v);
   MomentumSums<S> out{S(0), Vector3<S>::Zero(), Force<S>::Zero(), Force<S>::Zero(), Force<S>::Zero()};
   joint_sincos(model, data, q);
   for_each_body(model, [&](auto I) {
@@ -400,6 +402,9 @@ MomentumSums<S> floating_momentum(const FloatingModel<S, T>& model, FloatingData
                                   const Eigen::MatrixBase<A>& a) {
   constexpr int NJ = FloatingModel<S, T>::NJ;
   const int n = model.njoints();
+  check_q(model, q, "centroidal");
+  check_v(model, v, "centroidal", "v");
+  if constexpr (Acc) check_v(model, a, "centroidal", "a");
   data.X0 = root_transform<S>(q);
   data.v0 = root_motion(v).template cast<S>();
   Motion<S> a0 = Motion<S>::Zero();

@@ -19,6 +19,9 @@
 
 #include <cmath>
 #include <cstdint>
+#include <ostream>
+#include <sstream>
+#include <string>
 
 namespace spatial {
 
@@ -33,10 +36,28 @@ struct InputCheck {
   const char* joint = nullptr;
   const char* reason = nullptr;
   double value = 0.0;  ///< the offending value (NaN, ±Inf, or the wrong size)
+  int expected = -1;   ///< on a wrong size: the size the model expects (its number of joints), otherwise -1
 
   bool ok() const { return argument == nullptr; }
   explicit operator bool() const { return ok(); }
 };
+
+/// One line for people: "ok", "qd[3] (joint 'R_LFE_R_KN_joint'): NaN (value nan)", "result[20] (joint 'L_EB_L_WR_joint'):
+/// articulated inertia pivot is zero, … (value 0)" or "q: wrong size: 20 entries, the model has 21 joints".
+inline std::string to_string(const InputCheck& c) {
+  if (c.ok()) return "ok";
+  std::ostringstream os;
+  os.precision(17);
+  if (c.expected >= 0) {
+    os << c.argument << ": wrong size: " << c.index << " entries, the model has " << c.expected << " joints";
+    return os.str();
+  }
+  os << c.argument << "[" << c.index << "]";
+  if (c.joint != nullptr) os << " (joint '" << c.joint << "')";
+  os << ": " << (c.reason != nullptr ? c.reason : "bad") << " (value " << c.value << ")";
+  return os.str();
+}
+inline std::ostream& operator<<(std::ostream& os, const InputCheck& c) { return os << to_string(c); }
 
 namespace detail {
 template <class S, class T, class V>
@@ -47,6 +68,7 @@ bool check_vector(const Model<S, T>& model, const Eigen::MatrixBase<V>& v, const
     out.index = static_cast<int>(v.size());
     out.reason = "wrong size (index holds the size given; the model has size() entries)";
     out.value = static_cast<double>(v.size());
+    out.expected = n;
     return false;
   }
   for (int i = 0; i < n; ++i) {

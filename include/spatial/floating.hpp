@@ -38,6 +38,8 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <random>
 #include <string>
 #include <utility>
@@ -80,6 +82,12 @@ class FloatingModel {
   int njoints() const { return tree_.size(); }
   int nq() const { return tree_.size() + 7; }
   int nv() const { return tree_.size() + 6; }
+  /// Index look-ups by name, as on `Model`: a joint or body of the tree (q index 7 + i, v index 6 + i), a fixed
+  /// frame of `tree().frames()`; −1 when there is none (the root body is `root_name()`, body −1; the free-flyer is
+  /// `kFreeFlyerName`).
+  int joint_index(const std::string& name) const { return tree_.joint_index(name); }
+  int body_index(const std::string& name) const { return tree_.body_index(name); }
+  int frame_index(const std::string& name) const { return tree_.frame_index(name); }
   /// Mass of the whole robot: the root body and every body of the tree.
   S total_mass() const { return I0_.m + tree_.total_mass(); }
 
@@ -143,6 +151,55 @@ struct FloatingData {
   /// centroidal.hpp: centre of mass, its velocity and acceleration (world coordinates)
   Vector3<S> com = Vector3<S>::Zero(), vcom = Vector3<S>::Zero(), acom = Vector3<S>::Zero();
 };
+
+// ---------------------------------------------------------------------------------------------------------------
+// Argument sizes (sizes.hpp for floating bases): q has nq = n + 7 entries, v, v̇ and τ nv = n + 6
+// ---------------------------------------------------------------------------------------------------------------
+
+namespace detail {
+[[noreturn]] inline void floating_size_assertion_failed(const char* function, const char* argument, long long given,
+                                                        bool config, long long expected, long long joints) {
+  std::fprintf(stderr,
+               "spatial: %s: argument '%s' has %lld entries, the floating model has %s = %lld (%d free-flyer %s + %lld "
+               "joints)\n",
+               function, argument, given, config ? "nq" : "nv", expected, config ? 7 : 6,
+               config ? "coordinates" : "velocities", joints);
+  std::fflush(stderr);
+  std::abort();
+}
+
+/// The check of one argument of a floating-base entry point: `Config` = true for q (nq entries), false for v, v̇,
+/// τ (nv). A fixed-size argument on a compile-time tree is checked by `static_assert`; otherwise a run-time
+/// assertion as in sizes.hpp (SPATIAL_CHECK_SIZES, on without NDEBUG).
+template <bool Config, class S, class T, class Vec>
+inline void check_floating_size(const FloatingModel<S, T>& model, const Eigen::MatrixBase<Vec>& x,
+                                const char* function, const char* argument) {
+  constexpr int fixed = int(Vec::SizeAtCompileTime);
+  if constexpr (FloatingModel<S, T>::is_static && fixed != int(Eigen::Dynamic)) {
+    static_assert(fixed == (Config ? FloatingModel<S, T>::NQ : FloatingModel<S, T>::NV),
+                  "spatial: a fixed-size vector argument of a floating-base model does not have nq = n + 7 (q) or "
+                  "nv = n + 6 (v, a, tau) entries");
+  }
+#if SPATIAL_CHECK_SIZES
+  const long long expected = Config ? model.nq() : model.nv();
+  if (static_cast<long long>(x.size()) != expected)
+    floating_size_assertion_failed(function, argument, static_cast<long long>(x.size()), Config, expected,
+                                   model.njoints());
+#else
+  (void)model, (void)x, (void)function, (void)argument;
+#endif
+}
+template <class S, class T, class Q>
+inline void check_q(const FloatingModel<S, T>& model, const Eigen::MatrixBase<Q>& q, const char* function,
+                    const char* argument = "q") {
+  check_floating_size<true>(model, q, function, argument);
+}
+template <class S, class T, class V>
+inline void check_v(const FloatingModel<S, T>& model, const Eigen::MatrixBase<V>& v, const char* function,
+                    const char* argument) {
+  check_floating_size<false>(model, v, function, argument);
+}
+}  // namespace detail
 
 // ---------------------------------------------------------------------------------------------------------------
 // The free-flyer's blocks of q, v and τ
@@ -243,6 +300,9 @@ void exp_coefficients(S th2, S& a, S& b, S& c) {
 template <class S, class T, class Q, class V, class Out>
 void integrate(const FloatingModel<S, T>& model, const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<V>& v, S dt,
                const Eigen::MatrixBase<Out>& out_) {
+  detail::check_q(model, q, "integrate");
+  detail::check_v(model, v, "integrate", "v");
+  detail::check_q(model, out_, "integrate", "out");
   auto& out = const_cast<Eigen::MatrixBase<Out>&>(out_);
   const int n = model.njoints();
   const Vector3<S> w = Vector3<S>(S(v[3]), S(v[4]), S(v[5])) * dt;
@@ -281,6 +341,9 @@ typename FloatingModel<S, T>::ConfigVector integrate(const FloatingModel<S, T>& 
 template <class S, class T, class Q0, class Q1, class Out>
 void difference(const FloatingModel<S, T>& model, const Eigen::MatrixBase<Q0>& q0, const Eigen::MatrixBase<Q1>& q1,
                 const Eigen::MatrixBase<Out>& out_) {
+  detail::check_q(model, q0, "difference", "q0");
+  detail::check_q(model, q1, "difference", "q1");
+  detail::check_v(model, out_, "difference", "out");
   auto& out = const_cast<Eigen::MatrixBase<Out>&>(out_);
   using std::atan2;
   const int n = model.njoints();
@@ -501,6 +564,9 @@ const typename FloatingData<S, T>::VectorV& rnea(const FloatingModel<S, T>& mode
                                                  const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<V>& v,
                                                  const Eigen::MatrixBase<A>& a, const Ext& fext = Ext(),
                                                  ForceFrame frame = ForceFrame::Body) {
+  detail::check_q(model, q, "rnea");
+  detail::check_v(model, v, "rnea", "v");
+  detail::check_v(model, a, "rnea", "a");
   using namespace detail;
   rnea_floating<kGravity | kVelocity | kAcceleration>(model, data, q, v, a, fext, frame, data.tau);
   return data.tau;
@@ -510,6 +576,8 @@ const typename FloatingData<S, T>::VectorV& rnea(const FloatingModel<S, T>& mode
 template <class S, class T, class Q, class V>
 const typename FloatingData<S, T>::VectorV& bias_forces(const FloatingModel<S, T>& model, FloatingData<S, T>& data,
                                                         const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<V>& v) {
+  detail::check_q(model, q, "bias_forces");
+  detail::check_v(model, v, "bias_forces", "v");
   using namespace detail;
   rnea_floating<kGravity | kVelocity>(model, data, q, v, v, NoExternalForces{}, ForceFrame::Body, data.tau);
   return data.tau;
@@ -520,6 +588,7 @@ const typename FloatingData<S, T>::VectorV& bias_forces(const FloatingModel<S, T
 template <class S, class T, class Q>
 const typename FloatingData<S, T>::VectorV& gravity_torques(const FloatingModel<S, T>& model,
                                                             FloatingData<S, T>& data, const Eigen::MatrixBase<Q>& q) {
+  detail::check_q(model, q, "gravity_torques");
   using namespace detail;
   rnea_floating<kGravity>(model, data, q, data.tmp, data.tmp, NoExternalForces{}, ForceFrame::Body, data.tau);
   return data.tau;
@@ -530,6 +599,7 @@ const typename FloatingData<S, T>::VectorV& gravity_torques(const FloatingModel<
 template <class S, class T, class Q>
 const typename FloatingData<S, T>::MatrixV& crba(const FloatingModel<S, T>& model, FloatingData<S, T>& data,
                                                  const Eigen::MatrixBase<Q>& q) {
+  detail::check_q(model, q, "crba");
   const auto qj = detail::joint_block<FloatingModel<S, T>::NJ>(q, 7, model.njoints());
   detail::crba_inputs(model.tree(), data.tree, qj);
   detail::crba_floating(model, data);
@@ -592,6 +662,7 @@ void ltdl(const FloatingModel<S, T>& model, FloatingData<S, T>& data) {
 /// Solves H x = b in place with the factor from `ltdl` (x holds b on entry).
 template <class S, class T, class X>
 void ltdl_solve(const FloatingModel<S, T>& model, const FloatingData<S, T>& data, Eigen::MatrixBase<X>& x) {
+  detail::check_v(model, x, "ltdl_solve", "x");
   const auto& tree = model.tree();
   const auto& L = data.L;
   // x ← L⁻ᵀ x (rows from the last), x ← D⁻¹ x, x ← L⁻¹ x (rows from the first).
@@ -623,6 +694,9 @@ const typename FloatingData<S, T>::VectorV& forward_dynamics_crba(const Floating
                                                                   const Eigen::MatrixBase<Q>& q,
                                                                   const Eigen::MatrixBase<V>& v,
                                                                   const Eigen::MatrixBase<Tau>& tau) {
+  detail::check_q(model, q, "forward_dynamics_crba");
+  detail::check_v(model, v, "forward_dynamics_crba", "v");
+  detail::check_v(model, tau, "forward_dynamics_crba", "tau");
   using namespace detail;
   rnea_floating<kGravity | kVelocity>(model, data, q, v, v, NoExternalForces{}, ForceFrame::Body, data.tmp);
   data.tmp = tau - data.tmp;
@@ -649,6 +723,9 @@ const typename FloatingData<S, T>::VectorV& aba(const FloatingModel<S, T>& model
                                                 const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<V>& v,
                                                 const Eigen::MatrixBase<Tau>& tau, const Ext& fext = Ext(),
                                                 ForceFrame frame = ForceFrame::Body) {
+  detail::check_q(model, q, "aba");
+  detail::check_v(model, v, "aba", "v");
+  detail::check_v(model, tau, "aba", "tau");
   detail::aba_floating<true>(model, data, q, v, tau, fext, frame);
   return data.qdd;
 }
@@ -701,6 +778,7 @@ void aba_floating(const FloatingModel<S, T>& model, FloatingData<S, T>& data, co
 /// → body coordinates). World transforms: `world_transform(data, i)`.
 template <class S, class T, class Q>
 void forward_kinematics(const FloatingModel<S, T>& model, FloatingData<S, T>& data, const Eigen::MatrixBase<Q>& q) {
+  detail::check_q(model, q, "forward_kinematics");
   data.X0 = detail::root_transform<S>(q);
   forward_kinematics(model.tree(), data.tree, detail::joint_block<FloatingModel<S, T>::NJ>(q, 7, model.njoints()));
 }
@@ -736,6 +814,8 @@ Eigen::Transform<S, 3, Eigen::Isometry> frame_pose(const FloatingModel<S, T>& mo
 template <class S, class T, class Q, class V>
 S kinetic_energy(const FloatingModel<S, T>& model, FloatingData<S, T>& data, const Eigen::MatrixBase<Q>& q,
                  const Eigen::MatrixBase<V>& v) {
+  detail::check_q(model, q, "kinetic_energy");
+  detail::check_v(model, v, "kinetic_energy", "v");
   constexpr int NJ = FloatingModel<S, T>::NJ;
   const int n = model.njoints();
   data.X0 = detail::root_transform<S>(q);
@@ -774,6 +854,7 @@ std::pair<Vector3<S>, S> first_moment_world(const FloatingModel<S, T>& model, co
 /// Potential energy −Σ mᵢ g · cᵢ (world coordinates, zero at the world origin).
 template <class S, class T, class Q>
 S potential_energy(const FloatingModel<S, T>& model, FloatingData<S, T>& data, const Eigen::MatrixBase<Q>& q) {
+  detail::check_q(model, q, "potential_energy");
   forward_kinematics(model, data, q);
   return -model.gravity().dot(first_moment_world(model, data).first);
 }
@@ -781,6 +862,7 @@ S potential_energy(const FloatingModel<S, T>& model, FloatingData<S, T>& data, c
 /// Centre of mass of the whole robot (root and tree) in world coordinates.
 template <class S, class T, class Q>
 Vector3<S> center_of_mass(const FloatingModel<S, T>& model, FloatingData<S, T>& data, const Eigen::MatrixBase<Q>& q) {
+  detail::check_q(model, q, "center_of_mass");
   forward_kinematics(model, data, q);
   const auto hm = first_moment_world(model, data);
   return hm.first / hm.second;

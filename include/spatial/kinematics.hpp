@@ -235,6 +235,8 @@ void kinematics_pass(const Model<S, T>& model, Data<S, T>& data, const Eigen::Ma
                      const Eigen::MatrixBase<V>& v, const Eigen::MatrixBase<A>& a, const Motion<S>& v0,
                      const Motion<S>& a0) {
   (void)a;
+  if constexpr (Acc) check_sizes(model, "kinematics", "q", q, "v", v, "a", a);
+  else check_sizes(model, "kinematics", "q", q, "v", v);
   joint_sincos(model, data, q);
   for_each_body(model, [&](auto I) {
     const int i = I;
@@ -261,6 +263,9 @@ void kinematics_pass(const FloatingModel<S, T>& model, FloatingData<S, T>& data,
                      const Eigen::MatrixBase<V>& v, const Eigen::MatrixBase<A>& a) {
   constexpr int NJ = FloatingModel<S, T>::NJ;
   const int n = model.njoints();
+  check_q(model, q, "kinematics");
+  check_v(model, v, "kinematics", "v");
+  if constexpr (Acc) check_v(model, a, "kinematics", "a");
   data.X0 = root_transform<S>(q);
   data.v0 = root_motion(v).template cast<S>();
   if constexpr (Acc) data.a0 = root_motion(a).template cast<S>();
@@ -538,12 +543,14 @@ void frame_jacobian(const FloatingModel<S, T>& model, const FloatingData<S, T>& 
 template <class S, class T, class Q, class Out>
 void compute_body_jacobian(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q, int body,
                            ReferenceFrame rf, const Eigen::MatrixBase<Out>& J) {
+  detail::check_sizes(model, "compute_body_jacobian", "q", q);
   detail::jacobian_walk(detail::kin(model, data), q, body, Transform<S>::Identity(), rf,
                         const_cast<Eigen::MatrixBase<Out>&>(J));
 }
 template <class S, class T, class Q, class Out>
 void compute_body_jacobian(const FloatingModel<S, T>& model, FloatingData<S, T>& data, const Eigen::MatrixBase<Q>& q,
                            int body, ReferenceFrame rf, const Eigen::MatrixBase<Out>& J) {
+  detail::check_q(model, q, "compute_body_jacobian");
   detail::jacobian_walk(detail::kin(model, data), q, body, Transform<S>::Identity(), rf,
                         const_cast<Eigen::MatrixBase<Out>&>(J));
 }
@@ -551,6 +558,7 @@ void compute_body_jacobian(const FloatingModel<S, T>& model, FloatingData<S, T>&
 template <class S, class T, class Q, class Out>
 void compute_frame_jacobian(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q, int frame,
                             ReferenceFrame rf, const Eigen::MatrixBase<Out>& J) {
+  detail::check_sizes(model, "compute_frame_jacobian", "q", q);
   const FixedFrame<S>& fr = model.frames()[static_cast<std::size_t>(frame)];
   detail::jacobian_walk(detail::kin(model, data), q, fr.body, fr.X, rf, const_cast<Eigen::MatrixBase<Out>&>(J));
 }
@@ -558,6 +566,7 @@ template <class S, class T, class Q, class Out>
 void compute_frame_jacobian(const FloatingModel<S, T>& model, FloatingData<S, T>& data,
                             const Eigen::MatrixBase<Q>& q, int frame, ReferenceFrame rf,
                             const Eigen::MatrixBase<Out>& J) {
+  detail::check_q(model, q, "compute_frame_jacobian");
   const FixedFrame<S>& fr = model.tree().frames()[static_cast<std::size_t>(frame)];
   detail::jacobian_walk(detail::kin(model, data), q, fr.body, fr.X, rf, const_cast<Eigen::MatrixBase<Out>&>(J));
 }

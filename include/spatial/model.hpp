@@ -160,6 +160,12 @@ class Model {
   }
   /// Frames attached rigidly to bodies (the folded fixed joints: feet, hands, sensors).
   const std::vector<FixedFrame<S>>& frames() const { return frames_; }
+  /// Index in `frames()` of the fixed frame with the given name, or -1.
+  int frame_index(const std::string& name) const {
+    for (std::size_t k = 0; k < frames_.size(); ++k)
+      if (frames_[k].name == name) return static_cast<int>(k);
+    return -1;
+  }
   /// Mass of the base (fixed bodies merged into the base); it moves nothing.
   S base_mass() const { return base_mass_; }
 

@@ -32,6 +32,7 @@
 /// both).
 
 #include "spatial/algorithms.hpp"
+#include "spatial/sizes.hpp"
 
 #include <type_traits>
 
@@ -82,6 +83,7 @@ template <Dyn O, class S, class T, class Q, class QD, class QDD, class Ext = NoE
 const typename Data<S, T>::VectorN& rnea(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q,
                                          const Eigen::MatrixBase<QD>& qd, const Eigen::MatrixBase<QDD>& qdd,
                                          const Ext& fext = Ext(), ForceFrame frame = ForceFrame::Body) {
+  detail::check_sizes(model, "rnea", "q", q, "qd", qd, "qdd", qdd);
   detail::rnea_impl<detail::rnea_terms(O)>(model, data, q, qd, qdd, fext, frame, data.tau);
   if constexpr (has(O, Dyn::BaseForces)) {
     constexpr bool X = detail::has_external_v<Ext>;
@@ -98,6 +100,7 @@ template <Dyn O, class S, class T, class Q, class QD, class Tau, class Ext = NoE
 const typename Data<S, T>::VectorN& aba(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q,
                                         const Eigen::MatrixBase<QD>& qd, const Eigen::MatrixBase<Tau>& tau,
                                         const Ext& fext = Ext(), ForceFrame frame = ForceFrame::Body) {
+  detail::check_sizes(model, "aba", "q", q, "qd", qd, "tau", tau);
   detail::aba_impl<has(O, Dyn::Gravity), has(O, Dyn::Velocity)>(model, data, q, qd, tau, fext, frame);
   return data.qdd;
 }
@@ -110,6 +113,7 @@ const typename Data<S, T>::VectorN& forward_dynamics_crba(const Model<S, T>& mod
                                                           const Eigen::MatrixBase<Q>& q,
                                                           const Eigen::MatrixBase<QD>& qd,
                                                           const Eigen::MatrixBase<Tau>& tau) {
+  detail::check_sizes(model, "forward_dynamics_crba", "q", q, "qd", qd, "tau", tau);
   constexpr unsigned terms = detail::rnea_terms(O) & ~unsigned(detail::kAcceleration);
   detail::forward_dynamics_crba_impl<terms>(model, data, q, qd, tau);
   return data.qdd;

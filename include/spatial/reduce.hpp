@@ -26,13 +26,14 @@
 /// product I_P a_P carry it, so the merged model pays nothing extra, for gravity and for P's motion alike. Where
 /// a branch is not rigid (its joints move), no precomputation is exact and the branch must stay in the model.
 ///
-///   auto arms = keep_branches(model, {"R_SFE_link", "L_SFE_link"}, q);  // arms move, the rest is held at q
-///   arms.gather(q, q_arms);                                             // the reduced model's joints
+///   auto arms = keep_branches(model, {"R_SFE", "L_SFE"}, q);  // body (link) names: the arms move, the rest is
+///   arms.gather(q, q_arms);                                   // held at q; q_arms: the reduced model's joints
 ///
 /// A scene that holds the other joints still (q̇ = q̈ = 0 there) gets from the reduced model exactly the torques of
 /// the kept joints that the full model gives (tests/test_reduce.cpp).
 
 #include "spatial/model.hpp"
+#include "spatial/names.hpp"
 
 #include <cmath>
 #include <optional>
@@ -93,10 +94,29 @@ struct ReducedModel {
 
 namespace detail {
 template <class S, class T>
+std::vector<std::string> joint_names_of(const Model<S, T>& model) {
+  std::vector<std::string> out;
+  for (int i = 0; i < model.size(); ++i) out.push_back(model.joint_name(i));
+  return out;
+}
+template <class S, class T>
+std::vector<std::string> body_names_of(const Model<S, T>& model) {
+  std::vector<std::string> out;
+  for (int i = 0; i < model.size(); ++i) out.push_back(model.body_name(i));
+  return out;
+}
+template <class S, class T>
 int resolve_joint(const Model<S, T>& model, const JointRef& j, const char* who) {
   if (!j.name.empty()) {
     const int i = model.joint_index(j.name);
-    if (i < 0) throw ModelError(std::string(who) + ": the model has no joint '" + j.name + "'");
+    if (i < 0) {
+      std::string msg = std::string(who) + ": the model has no joint '" + j.name + "'";
+      const int b = model.body_index(j.name);
+      if (b >= 0)
+        msg += " ('" + j.name + "' is a body (link) name: the joint that moves it is '" + model.joint_name(b) + "')";
+      else msg += did_you_mean(j.name, joint_names_of(model));
+      throw ModelError(msg);
+    }
     return i;
   }
   if (j.index < 0 || j.index >= model.size()) {
@@ -219,7 +239,14 @@ ReducedModel<S> keep_branches(const Model<S, T>& model, const std::vector<JointR
     int root = r.index;
     if (!r.name.empty()) {
       root = model.body_index(r.name);
-      if (root < 0) throw ModelError("keep_branches: the model has no body '" + r.name + "'");
+      if (root < 0) {
+        std::string msg = "keep_branches: the model has no body '" + r.name + "' (it takes body (link) names, the "
+                          "first body of each branch";
+        const int j = model.joint_index(r.name);
+        if (j >= 0) msg += "; '" + r.name + "' is a joint: the body it moves is '" + model.body_name(j) + "')";
+        else msg += ")" + detail::did_you_mean(r.name, detail::body_names_of(model));
+        throw ModelError(msg);
+      }
     } else if (root < 0 || root >= model.size()) {
       std::ostringstream os;
       os << "keep_branches: body index " << root << " is not a body of the model (it has " << model.size() << ")";

@@ -1,7 +1,8 @@
 #pragma once
 /// \file spatial.hpp
 /// Umbrella header of the spatial library: spatial vector algebra, joints, kinematic trees and the dynamics
-/// algorithms (RNEA, CRBA, LTDL, ABA), input checks. See README.md for the conventions.
+/// algorithms (RNEA, CRBA, LTDL, ABA), floating bases, kinematics, centroidal quantities, input checks, printing
+/// (io.hpp). See README.md for the conventions.
 
 #include "spatial/algebra.hpp"
 #include "spatial/joints.hpp"
@@ -15,3 +16,4 @@
 #include "spatial/reduce.hpp"
 #include "spatial/kinematics.hpp"
 #include "spatial/ik.hpp"
+#include "spatial/io.hpp"

@@ -462,7 +462,9 @@ inline LoadedModel build(const Description& d, const LoadOptions& opt, const std
   const std::size_t nl = d.links.size();
   auto find_link = [&](const std::string& name, const char* option) {
     const auto it = d.link_id.find(name);
-    if (it == d.link_id.end()) fail(source, std::string(option) + ": unknown link " + quote(name));
+    if (it == d.link_id.end())
+      fail(source, std::string(option) + ": unknown link " + quote(name) +
+                       spatial::detail::did_you_mean(name, spatial::detail::keys_of(d.link_id)));
     return it->second;
   };
   const int root = opt.root.empty() ? d.root : find_link(opt.root, "root");
@@ -471,7 +473,9 @@ inline LoadedModel build(const Description& d, const LoadOptions& opt, const std
   std::vector<std::optional<double>> lock(d.joints.size());
   for (const auto& [name, value] : opt.locked) {
     const auto it = d.joint_id.find(name);
-    if (it == d.joint_id.end()) fail(source, "locked: unknown joint " + quote(name));
+    if (it == d.joint_id.end())
+      fail(source, "locked: unknown joint " + quote(name) +
+                       spatial::detail::did_you_mean(name, spatial::detail::keys_of(d.joint_id)));
     const JointRec& j = d.joints[static_cast<std::size_t>(it->second)];
     if (!std::isfinite(value))
       fail(source, "locked: joint " + quote(name) + " locked at a non-finite position (" + number(value) + ")");

@@ -1,13 +1,15 @@
 # Packaging test, run as `cmake -P` by the ctest test "package_consumer".
 #
 # 1. cmake --install SPATIAL_BUILD_DIR into WORK_DIR/prefix
-# 2. configure CONSUMER_SOURCE_DIR in a fresh WORK_DIR/build with CMAKE_PREFIX_PATH=WORK_DIR/prefix
-# 3. build it
-# 4. run the consumer executable
+# 2. configure, build and run CONSUMER_SOURCE_DIR with the core only (WORK_DIR/core; urdfdom made unfindable), then
+#    with the component urdf (WORK_DIR/urdf), with CMAKE_PREFIX_PATH=WORK_DIR/prefix
+# 3. the same for QUICKSTART_SOURCE_DIR (examples/quickstart, the README's quick start), when WITH_URDF
+# 4. find_package(spatial COMPONENTS urdf) with urdfdom made unfindable must fail, naming urdfdom
 # Any failing step stops the test and prints that step's command and full output.
 #
 # Required: SPATIAL_BUILD_DIR, CONSUMER_SOURCE_DIR, WORK_DIR.
-# Optional: CONFIG, GENERATOR, MAKE_PROGRAM, CXX_COMPILER, Eigen3_DIR, SPATIAL_VERSION.
+# Optional: CONFIG, GENERATOR, MAKE_PROGRAM, CXX_COMPILER, Eigen3_DIR, SPATIAL_VERSION, WITH_URDF,
+# QUICKSTART_SOURCE_DIR.
 cmake_minimum_required(VERSION 3.16)
 
 foreach(var SPATIAL_BUILD_DIR CONSUMER_SOURCE_DIR WORK_DIR)
@@ -17,7 +19,6 @@ foreach(var SPATIAL_BUILD_DIR CONSUMER_SOURCE_DIR WORK_DIR)
 endforeach()
 
 set(prefix "${WORK_DIR}/prefix")
-set(consumer_build "${WORK_DIR}/build")
 
 # Runs one step; on failure prints everything and stops.
 function(run_step description)
@@ -35,7 +36,7 @@ function(run_step description)
 endfunction()
 
 file(REMOVE_RECURSE "${WORK_DIR}")
-file(MAKE_DIRECTORY "${prefix}" "${consumer_build}")
+file(MAKE_DIRECTORY "${prefix}")
 
 set(config_args)
 if(CONFIG)
@@ -45,47 +46,71 @@ endif()
 run_step("install ${SPATIAL_BUILD_DIR} into ${prefix}"
   "${CMAKE_COMMAND}" --install "${SPATIAL_BUILD_DIR}" --prefix "${prefix}" ${config_args})
 
-set(configure_args
-  -S "${CONSUMER_SOURCE_DIR}"
-  -B "${consumer_build}"
-  "-DCMAKE_PREFIX_PATH=${prefix}"
-  "-DSPATIAL_EXPECTED_PREFIX=${prefix}"
-  -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF)
-if(GENERATOR)
-  list(APPEND configure_args -G "${GENERATOR}")
-endif()
-if(MAKE_PROGRAM)
-  list(APPEND configure_args "-DCMAKE_MAKE_PROGRAM=${MAKE_PROGRAM}")
-endif()
-if(CXX_COMPILER)
-  list(APPEND configure_args "-DCMAKE_CXX_COMPILER=${CXX_COMPILER}")
-endif()
-if(CONFIG)
-  list(APPEND configure_args "-DCMAKE_BUILD_TYPE=${CONFIG}")
-endif()
-if(Eigen3_DIR)
-  list(APPEND configure_args "-DEigen3_DIR=${Eigen3_DIR}")
-endif()
-if(SPATIAL_VERSION)
-  list(APPEND configure_args "-DSPATIAL_VERSION=${SPATIAL_VERSION}")
-endif()
+# Configures and builds one outside project SOURCE in WORK_DIR/NAME against the prefix, with extra -D arguments.
+function(configure_and_build name source)
+  set(build "${WORK_DIR}/${name}")
+  file(MAKE_DIRECTORY "${build}")
+  set(configure_args
+    -S "${source}"
+    -B "${build}"
+    "-DCMAKE_PREFIX_PATH=${prefix}"
+    "-DSPATIAL_EXPECTED_PREFIX=${prefix}"
+    -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF
+    ${ARGN})
+  if(GENERATOR)
+    list(APPEND configure_args -G "${GENERATOR}")
+  endif()
+  if(MAKE_PROGRAM)
+    list(APPEND configure_args "-DCMAKE_MAKE_PROGRAM=${MAKE_PROGRAM}")
+  endif()
+  if(CXX_COMPILER)
+    list(APPEND configure_args "-DCMAKE_CXX_COMPILER=${CXX_COMPILER}")
+  endif()
+  if(CONFIG)
+    list(APPEND configure_args "-DCMAKE_BUILD_TYPE=${CONFIG}")
+  endif()
+  if(Eigen3_DIR)
+    list(APPEND configure_args "-DEigen3_DIR=${Eigen3_DIR}")
+  endif()
+  if(SPATIAL_VERSION)
+    list(APPEND configure_args "-DSPATIAL_VERSION=${SPATIAL_VERSION}")
+  endif()
+  run_step("configure ${name}" "${CMAKE_COMMAND}" ${configure_args})
+  run_step("build ${name}" "${CMAKE_COMMAND}" --build "${build}" ${config_args})
+endfunction()
 
-run_step("configure the consumer project" "${CMAKE_COMMAND}" ${configure_args})
-run_step("build the consumer project" "${CMAKE_COMMAND}" --build "${consumer_build}" ${config_args})
+function(run_exe path)
+  if(NOT EXISTS "${path}" AND EXISTS "${path}.exe")
+    set(path "${path}.exe")
+  endif()
+  run_step("run ${path}" "${path}")
+endfunction()
 
-set(consumer_exe "${consumer_build}/bin/spatial_consumer")
-if(NOT EXISTS "${consumer_exe}" AND EXISTS "${consumer_exe}.exe")
-  set(consumer_exe "${consumer_exe}.exe")
-endif()
-run_step("run the consumer" "${consumer_exe}")
-set(models_consumer_exe "${consumer_build}/bin/spatial_models_consumer")
-if(NOT EXISTS "${models_consumer_exe}" AND EXISTS "${models_consumer_exe}.exe")
-  set(models_consumer_exe "${models_consumer_exe}.exe")
-endif()
-run_step("run the models consumer" "${models_consumer_exe}")
-set(urdf_consumer_exe "${consumer_build}/bin/spatial_urdf_consumer")
-if(EXISTS "${urdf_consumer_exe}")
-  run_step("run the URDF consumer" "${urdf_consumer_exe}")
+# 1. The core alone: find_package(spatial) must not need urdfdom, so find_package(urdfdom) is disabled here.
+configure_and_build(core "${CONSUMER_SOURCE_DIR}" -DSPATIAL_CONSUMER_URDF=OFF -DCMAKE_DISABLE_FIND_PACKAGE_urdfdom=ON)
+run_exe("${WORK_DIR}/core/bin/spatial_consumer")
+run_exe("${WORK_DIR}/core/bin/spatial_models_consumer")
+
+if(WITH_URDF)
+  # 2. The component urdf: spatial::urdf and urdfdom.
+  configure_and_build(urdf "${CONSUMER_SOURCE_DIR}" -DSPATIAL_CONSUMER_URDF=ON)
+  run_exe("${WORK_DIR}/urdf/bin/spatial_urdf_consumer")
+  # 3. The README's quick start (examples/quickstart), so that it keeps compiling and giving the right numbers.
+  if(QUICKSTART_SOURCE_DIR)
+    configure_and_build(quickstart "${QUICKSTART_SOURCE_DIR}")
+    run_exe("${WORK_DIR}/quickstart/quickstart")
+  endif()
+  # 4. Asking for the component urdf where urdfdom cannot be found fails, with the reason.
+  set(no_urdfdom "${WORK_DIR}/no_urdfdom")
+  execute_process(COMMAND "${CMAKE_COMMAND}" -S "${CONSUMER_SOURCE_DIR}" -B "${no_urdfdom}"
+      "-DCMAKE_PREFIX_PATH=${prefix}" -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF -DSPATIAL_CONSUMER_URDF=ON
+      -DCMAKE_DISABLE_FIND_PACKAGE_urdfdom=ON "-DEigen3_DIR=${Eigen3_DIR}"
+    RESULT_VARIABLE result OUTPUT_VARIABLE output ERROR_VARIABLE output)
+  if(result EQUAL 0 OR NOT output MATCHES "the component urdf needs urdfdom")
+    message("---- output ----\n${output}---- end of output ----")
+    message(FATAL_ERROR "package test FAILED: COMPONENTS urdf without urdfdom did not fail with the reason")
+  endif()
+  message(STATUS "package test: COMPONENTS urdf without urdfdom fails as it should")
 endif()
 
 message(STATUS "package test: passed")
