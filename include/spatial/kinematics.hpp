@@ -25,7 +25,9 @@
 ///   and ʳX_w⁻¹ [e_k; 0], r = the root). Then v_F^World = J v summed over the ancestors of F's body.
 ///   `body_jacobian` / `frame_jacobian` re-express the ancestor columns in a reference frame; `compute_body_jacobian`
 ///   / `compute_frame_jacobian` do everything in one walk from the body up to the root (only the ancestors' joint
-///   transforms are computed): Local column ᶠX_j Sⱼ, accumulating ᶠX_λ(j) = ᶠX_j ʲX_λ(j).
+///   transforms are computed): Local column ᶠX_j Sⱼ, accumulating ᶠX_λ(j) = ᶠX_j ʲX_λ(j). On the AVX2 path
+///   (simd.hpp's conditions, output a column-major 6-row matrix) the walk instead composes the ancestors'
+///   world transforms from the root down and writes each column straight in the reference frame.
 ///
 /// ## Velocities and accelerations
 ///   `forward_kinematics(q, v, a)`: transforms, body velocities and **spatial** accelerations (in body
