@@ -3,7 +3,8 @@
 #   1. Debian packages (scripts/deps.sh), then the optional peers and tools in build/venv (scripts/peers.sh:
 #      Pinocchio from PyPI's `pin`, matplotlib; the run goes on without them if pip fails).
 #   2. Release builds of every benchmark binary and the error study, with g++ (preset "release", build/) and with
-#      clang++ (preset "clang-release", build-clang/). Tests are not built here (scripts/test.sh does that).
+#      clang++ (preset "clang-release", build-clang/), both at once. Tests are not built here (scripts/test.sh does
+#      that).
 #   3. Runs every benchmark binary of each build (Google Benchmark, repetitions with medians) and the error study,
 #      writing JSON to build/report/raw/<compiler>/.
 #   4. The reference study's scenes: `spatial-dyn scene all` (first compiler's build) into build/report/scenes/,
@@ -35,17 +36,38 @@ fi
 rm -rf "$raw_dir"
 mkdir -p "$raw_dir"
 
+# Both compilers' builds run at the same time: each build ends on a few long translation units (bench_pinocchio
+# alone takes ~3 CPU minutes) during which one of its jobs idles, and the other build fills that core (on an idle
+# 2-core machine, 640 s one after the other against ~500 s together). The first compiler's build also makes
+# spatial-dyn, which the scenes need (a minute of one core when it was built at the end). Logs:
+# build/report/raw/build-<compiler>.log.
+first_compiler=${compilers%% *}
+build_pids=()
 for compiler in $compilers; do
   case "$compiler" in
     gcc) preset=release; build_dir=build ;;
     clang) preset=clang-release; build_dir=build-clang ;;
     *) echo "main.sh: unknown compiler '$compiler' (gcc or clang)" >&2; exit 2 ;;
   esac
-  stage "$compiler: configure and build ($preset, $build_dir)"
+  stage "$compiler: configure ($preset, $build_dir)"
   cmake --preset "$preset" >"$raw_dir/configure-$compiler.log" 2>&1 || { cat "$raw_dir/configure-$compiler.log"; exit 1; }
   grep -E "spatial:" "$raw_dir/configure-$compiler.log" || true
-  cmake --build --preset "$preset" --target spatial_benchmarks --parallel "$jobs"
+  targets=(spatial_benchmarks)
+  [[ "$compiler" == "$first_compiler" ]] && targets+=(spatial-dyn)
+  cmake --build --preset "$preset" --target "${targets[@]}" --parallel "$jobs" >"$raw_dir/build-$compiler.log" 2>&1 &
+  build_pids+=("$!:$compiler")
 done
+stage "building ($compilers at once; logs in $raw_dir/build-<compiler>.log)"
+build_failed=0
+for entry in "${build_pids[@]}"; do
+  if ! wait "${entry%%:*}"; then
+    compiler=${entry#*:}
+    tail -n 60 "$raw_dir/build-$compiler.log"
+    echo "main.sh: the $compiler build failed (whole log: $raw_dir/build-$compiler.log)" >&2
+    build_failed=1
+  fi
+done
+[[ $build_failed -eq 0 ]] || exit 1
 
 for compiler in $compilers; do
   case "$compiler" in
@@ -81,7 +103,6 @@ if [[ -x build/venv/bin/python ]] && build/venv/bin/python -c "import matplotlib
   python=build/venv/bin/python
 fi
 
-first_compiler=${compilers%% *}
 scene_build=build
 [[ "$first_compiler" == clang ]] && scene_build=build-clang
 stage "scenes (spatial-dyn scene all, $scene_build)"
