@@ -96,13 +96,14 @@ Inertia<S> subtree_first_moments(const Model<S, T>& model, Data<S, T>& data) {
 }
 
 /// The composite inertia of every subtree in base coordinates into `data.Ic`, the motion subspaces in base
-/// coordinates into `data.S_base` (after forward kinematics). Returns the sum over the tree's roots.
+/// coordinates into `data.S_base` (after `forward_kinematics(model, data, q)`, on which it relies). Returns the sum over the tree's roots.
 template <class S, class T>
 Inertia<S> composite_inertias_base(const Model<S, T>& model, Data<S, T>& data) {
   for_each_body(model, [&](auto I) {
     const auto k = static_cast<std::size_t>(int(I));
     data.Ic[k] = model.inertia(int(I)).transformed_inverse(data.X_base[k]);
-    data.S_base[k] = model.joint(I).subspace_inverse(data.X_base[k]);
+    // The AVX2 forward kinematics (every caller runs forward_kinematics first) has left S_base already.
+    if constexpr (!simd_enabled<S, T>()) data.S_base[k] = model.joint(I).subspace_inverse(data.X_base[k]);
   });
   Inertia<S> total = Inertia<S>::Zero();
   for_each_body_reverse(model, [&](auto I) {

@@ -142,6 +142,12 @@ struct FixedKin {
   Transform<S> world(int i) const {
     return i >= 0 ? data.X_base[static_cast<std::size_t>(i)] : Transform<S>::Identity();
   }
+  /// World (base) coordinates of the point with coordinates x in body i's frame.
+  Vector3<S> point_world(int i, const Vector3<S>& x) const {
+    if (i < 0) return x;
+    const Transform<S>& X = data.X_base[static_cast<std::size_t>(i)];
+    return add3(X.r, mul_t(X.E, x));
+  }
   Motion<S> velocity(int i) const { return i >= 0 ? data.v[static_cast<std::size_t>(i)] : Motion<S>::Zero(); }
   Motion<S> acceleration(int i) const { return i >= 0 ? data.a[static_cast<std::size_t>(i)] : Motion<S>::Zero(); }
   Transform<S> root() const { return Transform<S>::Identity(); }
@@ -159,6 +165,14 @@ struct FloatingKin {
   const Model<S, T>& frames_model() const { return tree; }
   Transform<S> world(int i) const {
     return i >= 0 ? data.tree.X_base[static_cast<std::size_t>(i)] * data.X0 : data.X0;
+  }
+  Vector3<S> point_world(int i, const Vector3<S>& x) const {
+    Vector3<S> y = x;
+    if (i >= 0) {
+      const Transform<S>& X = data.tree.X_base[static_cast<std::size_t>(i)];
+      y = add3(X.r, mul_t(X.E, x));
+    }
+    return add3(data.X0.r, mul_t(data.X0.E, y));
   }
   Motion<S> velocity(int i) const { return i >= 0 ? data.tree.v[static_cast<std::size_t>(i)] : data.v0; }
   Motion<S> acceleration(int i) const { return i >= 0 ? data.tree.a[static_cast<std::size_t>(i)] : data.a0; }
@@ -290,6 +304,25 @@ void jacobian_from_world(const K& k, int body, const Transform<typename Out::Sca
   for_each_ancestor_column(k, body, [&](int c) {
     set_jacobian_column(J, c, world_to_frame<S>(rf, Xfw, jacobian_column<S>(J0, c)));
   });
+}
+
+/// The same for rf = World or LocalWorldAligned, which need only F's origin p (world coordinates): a column
+/// [v; ω] of data.J becomes [v + ω × p; ω] (LocalWorldAligned) or stays (World).
+template <class K, class Out>
+void jacobian_from_world_at(const K& k, int body, const Vector3<typename Out::Scalar>& p, ReferenceFrame rf,
+                            Eigen::MatrixBase<Out>& J) {
+  using S = typename Out::Scalar;
+  J.setZero();
+  const auto& J0 = k.data.J;
+  if (rf == ReferenceFrame::World) {
+    for_each_ancestor_column(k, body, [&](int c) { J.col(c) = J0.col(c); });
+  } else {
+    for_each_ancestor_column(k, body, [&](int c) {
+      const Vector3<S> w = J0.template block<3, 1>(3, c);
+      J.template block<3, 1>(0, c) = add3(Vector3<S>(J0.template block<3, 1>(0, c)), cross3(w, p));
+      J.template block<3, 1>(3, c) = w;
+    });
+  }
 }
 
 /// d/dt of the Jacobian of frame F (ᶠX_w = Xfw) on `body` from data.J and data.dJ.
@@ -514,12 +547,18 @@ template <class S, class T, class Out>
 void body_jacobian(const Model<S, T>& model, const Data<S, T>& data, int body, ReferenceFrame rf,
                    const Eigen::MatrixBase<Out>& J) {
   const auto k = detail::kin(model, data);
+  if (rf != ReferenceFrame::Local)
+    return detail::jacobian_from_world_at(k, body, k.point_world(body, Vector3<S>::Zero()), rf,
+                                          const_cast<Eigen::MatrixBase<Out>&>(J));
   detail::jacobian_from_world(k, body, k.world(body), rf, const_cast<Eigen::MatrixBase<Out>&>(J));
 }
 template <class S, class T, class Out>
 void body_jacobian(const FloatingModel<S, T>& model, const FloatingData<S, T>& data, int body, ReferenceFrame rf,
                    const Eigen::MatrixBase<Out>& J) {
   const auto k = detail::kin(model, data);
+  if (rf != ReferenceFrame::Local)
+    return detail::jacobian_from_world_at(k, body, k.point_world(body, Vector3<S>::Zero()), rf,
+                                          const_cast<Eigen::MatrixBase<Out>&>(J));
   detail::jacobian_from_world(k, body, k.world(body), rf, const_cast<Eigen::MatrixBase<Out>&>(J));
 }
 /// The Jacobian of fixed frame `frame` in `rf`, from `data.J` after `compute_joint_jacobians`.
@@ -527,6 +566,11 @@ template <class S, class T, class Out>
 void frame_jacobian(const Model<S, T>& model, const Data<S, T>& data, int frame, ReferenceFrame rf,
                     const Eigen::MatrixBase<Out>& J) {
   const auto k = detail::kin(model, data);
+  if (rf != ReferenceFrame::Local) {
+    const FixedFrame<S>& fr = k.frames_model().frames()[static_cast<std::size_t>(frame)];
+    return detail::jacobian_from_world_at(k, fr.body, k.point_world(fr.body, fr.X.r), rf,
+                                          const_cast<Eigen::MatrixBase<Out>&>(J));
+  }
   int body;
   const Transform<S> X = detail::frame_world(k, frame, body);
   detail::jacobian_from_world(k, body, X, rf, const_cast<Eigen::MatrixBase<Out>&>(J));
@@ -535,6 +579,11 @@ template <class S, class T, class Out>
 void frame_jacobian(const FloatingModel<S, T>& model, const FloatingData<S, T>& data, int frame, ReferenceFrame rf,
                     const Eigen::MatrixBase<Out>& J) {
   const auto k = detail::kin(model, data);
+  if (rf != ReferenceFrame::Local) {
+    const FixedFrame<S>& fr = k.frames_model().frames()[static_cast<std::size_t>(frame)];
+    return detail::jacobian_from_world_at(k, fr.body, k.point_world(fr.body, fr.X.r), rf,
+                                          const_cast<Eigen::MatrixBase<Out>&>(J));
+  }
   int body;
   const Transform<S> X = detail::frame_world(k, frame, body);
   detail::jacobian_from_world(k, body, X, rf, const_cast<Eigen::MatrixBase<Out>&>(J));
