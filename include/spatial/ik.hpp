@@ -278,7 +278,6 @@ class IkSolver {
     k_ = std::min(m_, nv_);
     A_ = MatrixX::Zero(k_, k_);
     y_ = VectorX::Zero(k_);
-    ldlt_ = Eigen::LDLT<MatrixX>(k_);
     ldlt_.compute(MatrixX::Identity(k_, k_));  // size its buffers
   }
 
