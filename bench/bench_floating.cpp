@@ -9,6 +9,7 @@
 // to 1e-12, targets from forward kinematics of a pool state, started from that state perturbed by 0.05 × a pool
 // velocity on the manifold (one whole solve per call).
 #include "bench_common.hpp"
+#include "bench_derivatives.hpp"
 #include "bench_floating.hpp"
 
 namespace {
@@ -132,6 +133,15 @@ const bool registered = [] {
   add_build_context();
   register_floating<double>("static", floating27());
   register_floating<double>("runtime", floating_to_runtime(floating27()));
+  const auto derivatives = [](const std::string& tree, const auto& model) {
+    using M = std::decay_t<decltype(model)>;
+    using T = typename M::tree_type;
+    const auto pool = floating_pool().template cast<double, M::NQ, M::NV>();
+    register_derivatives<M, FloatingData<double, T>, FloatingDerivativeData<double, T>>(
+        model, pool, [&](const char* algorithm) { return bench_name("spatial", algorithm, "floating27", "double", tree); });
+  };
+  derivatives("static", floating27());
+  derivatives("runtime", floating_to_runtime(floating27()));
   register_ik<double>("static", floating27());
   register_ik<double>("runtime", floating_to_runtime(floating27()));
   return true;

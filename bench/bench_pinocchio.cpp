@@ -14,6 +14,9 @@
 #include "peers/peer_check.hpp"
 #include "peers/pinocchio_peer.hpp"
 
+#include <spatial/derivatives.hpp>
+
+#include <pinocchio/algorithm/aba-derivatives.hpp>
 #include <pinocchio/algorithm/aba.hpp>
 #include <pinocchio/algorithm/center-of-mass.hpp>
 #include <pinocchio/algorithm/centroidal.hpp>
@@ -22,6 +25,7 @@
 #include <pinocchio/algorithm/cholesky.hpp>
 #include <pinocchio/algorithm/crba.hpp>
 #include <pinocchio/algorithm/kinematics.hpp>
+#include <pinocchio/algorithm/rnea-derivatives.hpp>
 #include <pinocchio/algorithm/rnea.hpp>
 
 #include <benchmark/benchmark.h>
@@ -60,6 +64,43 @@ const typename PinFixture<S>::Vector& pinocchio_fd_crba(PinFixture<S>& f, std::s
   f.x = f.u[k] - f.data.nle;
   pinocchio::cholesky::solve(m, f.data, f.x);
   return f.x;
+}
+
+/// Pinocchio's computeRNEADerivatives and computeABADerivatives against ours on the first 32 states (double):
+/// ∂τ/∂q, ∂τ/∂v ≤ 1e-12 and ∂q̈/∂q, ∂q̈/∂v, ∂q̈/∂τ = M⁻¹ (Pinocchio fills its upper triangle) ≤ 1e-10, relative.
+template <class Peer, class PQ, class ModelT, class OQ, class OV>
+void check_derivatives(const Peer& peer, pinocchio::Data& pd, const PQ& q, const PQ& v, const PQ& u,
+                       const ModelT& model, const OQ& oq, const OV& ov, const OV& ou, const std::string& name) {
+  const auto& pm = [&]() -> const pinocchio::Model& {
+    if constexpr (std::is_same_v<Peer, PinocchioPeer<double>>) return peer.model;
+    else return peer.tree.model;
+  }();
+  using Deriv = std::conditional_t<std::is_same_v<Peer, PinocchioPeer<double>>,
+                                   DerivativeData<double, typename ModelT::tree_type>,
+                                   FloatingDerivativeData<double, typename ModelT::tree_type>>;
+  using D = std::conditional_t<std::is_same_v<Peer, PinocchioPeer<double>>, Data<double, typename ModelT::tree_type>,
+                               FloatingData<double, typename ModelT::tree_type>>;
+  D data(model);
+  Deriv dd(model);
+  const std::string on = " (double) on " + name;
+  PeerCheck rq{"Pinocchio computeRNEADerivatives dtau_dq" + on, 1e-12},
+      rv{"Pinocchio computeRNEADerivatives dtau_dv" + on, 1e-12},
+      aq{"Pinocchio computeABADerivatives ddq_dq" + on, 1e-10}, av{"Pinocchio computeABADerivatives ddq_dv" + on, 1e-10},
+      mi{"Pinocchio computeABADerivatives Minv" + on, 1e-10};
+  for (std::size_t s = 0; s < 32 && s < q.size(); ++s) {
+    pinocchio::computeRNEADerivatives(pm, pd, q[s], v[s], u[s]);
+    rnea_derivatives(model, data, dd, oq[s], ov[s], ou[s]);
+    rq.compare(peer.from_pinocchio_matrix(pd.dtau_dq), dd.dtau_dq);
+    rv.compare(peer.from_pinocchio_matrix(pd.dtau_dv), dd.dtau_dv);
+    pinocchio::computeABADerivatives(pm, pd, q[s], v[s], u[s]);
+    aba_derivatives(model, data, dd, oq[s], ov[s], ou[s]);
+    aq.compare(peer.from_pinocchio_matrix(pd.ddq_dq), dd.dqdd_dq);
+    av.compare(peer.from_pinocchio_matrix(pd.ddq_dv), dd.dqdd_dv);
+    Eigen::MatrixXd M = pd.Minv;
+    M.triangularView<Eigen::StrictlyLower>() = M.transpose().triangularView<Eigen::StrictlyLower>();
+    mi.compare(peer.from_pinocchio_matrix(M), dd.dqdd_dtau);
+  }
+  for (const PeerCheck* c : {&rq, &rv, &aq, &av, &mi}) c->report();
 }
 
 template <class S, class TreeT>
@@ -101,6 +142,8 @@ void check(const BenchModel<TreeT>& entry, PinFixture<S>& f, const InputPool<dou
     }
   }
   for (const PeerCheck* c : {&tau, &grav, &nle, &mass, &fd_aba, &fd_crba, &fk}) c->report();
+  if constexpr (std::is_same_v<S, double>) check_derivatives(f.peer, f.data, f.q, f.qd, f.u, model, pool.q, pool.qd,
+                                                             pool.u, entry.name);
 }
 
 template <class S, class TreeT>
@@ -140,6 +183,18 @@ void register_pinocchio(const BenchModel<TreeT>& entry) {
   reg("ABA", [](Fx& f, std::size_t k) {
     benchmark::DoNotOptimize(pinocchio::aba(f.peer.model, f.data, f.q[k], f.qd[k], f.u[k]).data());
   });
+  if constexpr (std::is_same_v<S, double>) {
+    reg("RNEA_derivatives", [](Fx& f, std::size_t k) {
+      pinocchio::computeRNEADerivatives(f.peer.model, f.data, f.q[k], f.qd[k], f.u[k]);
+      benchmark::DoNotOptimize(f.data.dtau_dq.data());
+      benchmark::ClobberMemory();
+    });
+    reg("ABA_derivatives", [](Fx& f, std::size_t k) {
+      pinocchio::computeABADerivatives(f.peer.model, f.data, f.q[k], f.qd[k], f.u[k]);
+      benchmark::DoNotOptimize(f.data.ddq_dq.data());
+      benchmark::ClobberMemory();
+    });
+  }
   reg("FK", [](Fx& f, std::size_t k) {
     pinocchio::forwardKinematics(f.peer.model, f.data, f.q[k]);
     benchmark::DoNotOptimize(f.data.oMi.back().translation().data());
@@ -227,6 +282,7 @@ void register_pinocchio_floating() {
     ag.compare(fx->peer.from_pinocchio_columns(pinocchio::ccrba(pm, fx->data, fx->q[s], fx->v[s])), Ag);
   }
   for (const PeerCheck* c : {&tau, &mass, &fd, &jac, &cjac, &jcom, &ag}) c->report();
+  check_derivatives(fx->peer, fx->data, fx->q, fx->v, fx->u, model, pool.q, pool.v, pool.u, "floating27");
 
   using Fx = FloatingPinFixture;
   const auto reg = [&](const char* algorithm, auto body) {
@@ -262,6 +318,16 @@ void register_pinocchio_floating() {
   });
   reg("ComJacobian", [](Fx& f, std::size_t k) {
     benchmark::DoNotOptimize(pinocchio::jacobianCenterOfMass(f.peer.tree.model, f.data, f.q[k], false).data());
+  });
+  reg("RNEA_derivatives", [](Fx& f, std::size_t k) {
+    pinocchio::computeRNEADerivatives(f.peer.tree.model, f.data, f.q[k], f.v[k], f.u[k]);
+    benchmark::DoNotOptimize(f.data.dtau_dq.data());
+    benchmark::ClobberMemory();
+  });
+  reg("ABA_derivatives", [](Fx& f, std::size_t k) {
+    pinocchio::computeABADerivatives(f.peer.tree.model, f.data, f.q[k], f.v[k], f.u[k]);
+    benchmark::DoNotOptimize(f.data.ddq_dq.data());
+    benchmark::ClobberMemory();
   });
   reg("CentroidalMatrix", [](Fx& f, std::size_t k) {
     benchmark::DoNotOptimize(pinocchio::ccrba(f.peer.tree.model, f.data, f.q[k], f.v[k]).data());

@@ -34,21 +34,10 @@ namespace {
 using namespace spatial;
 using spatial::testing::rel_diff;
 using spatial::testing::Shape;
+using spatial::testing::random_floating;
 using Vec = Eigen::VectorXd;
 using Mat = Eigen::MatrixXd;
 using V3 = Vector3<double>;
-
-Inertia<double> random_root_inertia(std::mt19937& rng) {
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  const double m = 2.0 + u(rng);
-  return Inertia<double>::from_com(m, 0.1 * V3(u(rng), u(rng), u(rng)), spatial::testing::random_inertia_com(rng, m));
-}
-
-FloatingModel<double> random_floating(int n, Shape shape, unsigned seed, const V3& g = V3(0, 0, -9.81)) {
-  std::mt19937 rng(seed + 1000);
-  auto bodies = spatial::testing::random_bodies(n, shape, seed);
-  return FloatingModel<double>(spatial::testing::build_model(bodies, g), random_root_inertia(rng), "root");
-}
 
 Vec random_q(const FloatingModel<double>& m, std::mt19937& rng) {
   const Vec lo = Vec::Constant(m.njoints(), -2.0), hi = Vec::Constant(m.njoints(), 2.0);

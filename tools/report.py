@@ -77,6 +77,12 @@ FLOATING_TARGETS = [
     ("centroidal momentum matrix vs Pinocchio ccrba", "CentroidalMatrix", "pinocchio", "CentroidalMatrix", 0.5),
 ]
 
+# Performance targets of issue 13 (analytical derivatives), on stance21 and floating27, double, compile-time trees.
+DERIVATIVE_TARGETS = [
+    ("RNEA derivatives vs Pinocchio computeRNEADerivatives", "RNEA_derivatives", "pinocchio", "RNEA_derivatives", 0.4),
+    ("ABA derivatives vs Pinocchio computeABADerivatives", "ABA_derivatives", "pinocchio", "ABA_derivatives", 0.4),
+]
+
 # Why a target can be missed on this kind of machine and what would close it (analysis in docs/performance.md);
 # printed under the targets table for the targets the run missed.
 MISS_NOTES = {
@@ -88,7 +94,8 @@ MISS_NOTES = {
 }
 
 ALGORITHMS = ["RNEA", "GravityTorques", "BiasForces", "CRBA", "FD_CRBA_LTDL", "FD_CRBA_DenseLLT", "ABA", "FK", "LTDL",
-              "JointJacobians", "FrameJacobian", "ComputeFrameJacobian", "ComJacobian", "CentroidalMatrix"]
+              "JointJacobians", "FrameJacobian", "ComputeFrameJacobian", "ComJacobian", "CentroidalMatrix",
+              "RNEA_derivatives", "ABA_derivatives", "RNEA_derivatives_fd"]
 ALGORITHM_TITLES = {
     "RNEA": "RNEA (inverse dynamics)",
     "GravityTorques": "gravity torques",
@@ -99,6 +106,9 @@ ALGORITHM_TITLES = {
     "ABA": "forward dynamics: ABA",
     "FK": "forward kinematics",
     "LTDL": "LTDL factorise + solve",
+    "RNEA_derivatives": "∂τ/∂q, ∂τ/∂q̇ (analytical)",
+    "ABA_derivatives": "∂q̈/∂q, ∂q̈/∂q̇, ∂q̈/∂τ (analytical)",
+    "RNEA_derivatives_fd": "∂τ/∂q, ∂τ/∂q̇ by forward differences (2n + 1 RNEA)",
 }
 PEER_CALLS = {
     ("kdl", "RNEA"): "TreeIdSolver_RNE",
@@ -111,6 +121,8 @@ PEER_CALLS = {
     ("pinocchio", "FD_CRBA_LTDL"): "crba + nonLinearEffects + cholesky",
     ("pinocchio", "ABA"): "aba",
     ("pinocchio", "FK"): "forwardKinematics",
+    ("pinocchio", "RNEA_derivatives"): "computeRNEADerivatives",
+    ("pinocchio", "ABA_derivatives"): "computeABADerivatives",
 }
 GROWTH_RE = re.compile(r"^(chain|binary)(\d+)$")
 # Variants that compute the same result compete on one Pareto front: the three forward dynamics; every other
@@ -790,6 +802,34 @@ def write_report(out_dir, compilers, records, time_kind, charts_enabled=True, sc
                 "÷ Pinocchio (rt)"], frows))
     w("")
 
+    w("## Derivatives (issue 13)")
+    w("")
+    w("Analytical derivatives of RNEA (∂τ/∂q, ∂τ/∂q̇) and of forward dynamics (∂q̈/∂q, ∂q̈/∂q̇, ∂q̈/∂τ; on floating27 in "
+      "the tangent space), against Pinocchio's `computeRNEADerivatives` / `computeABADerivatives` (bench_pinocchio "
+      "checks all five matrices against ours before timing) and against our own forward differences of RNEA "
+      "(`RNEA_derivatives_fd`: the same two matrices from 2n + 1 RNEA calls).")
+    w("")
+    for model in (TARGET_MODEL, FLOATING_MODEL):
+        header, rows = target_rows(records, compiler_list, have_pinocchio, DERIVATIVE_TARGETS, model)
+        w(f"{model}:")
+        w("")
+        w(md_table(header, rows))
+        w("")
+    drows = []
+    for model in (TARGET_MODEL, FLOATING_MODEL):
+        for c in compiler_list:
+            an = find(records, compiler=c, model=model, algorithm="RNEA_derivatives", scalar="double", tree="static")
+            ab = find(records, compiler=c, model=model, algorithm="ABA_derivatives", scalar="double", tree="static")
+            fd = find(records, compiler=c, model=model, algorithm="RNEA_derivatives_fd", scalar="double",
+                      tree="static")
+            rt = find(records, compiler=c, model=model, algorithm="RNEA_derivatives", scalar="double", tree="runtime")
+            drows.append([model, c, fmt_ns(an["ns"]) if an else "–", fmt_ns(rt["ns"]) if rt else "–",
+                          fmt_ns(ab["ns"]) if ab else "–", fmt_ns(fd["ns"]) if fd else "–",
+                          fmt_ratio(ratio(fd["ns"] if fd else None, an["ns"] if an else None))])
+    w(md_table(["model", "compiler", "RNEA derivatives (ct)", "RNEA derivatives (rt)", "ABA derivatives (ct)",
+                "finite differences (ct)", "finite differences ÷ analytical"], drows))
+    w("")
+
     w("## Reference rows")
     w("")
     rows = []
@@ -1043,6 +1083,10 @@ def main():
     header, rows = target_rows(records, list(compilers), have_pinocchio, FLOATING_TARGETS, FLOATING_MODEL)
     print(f"\nFloating-base targets (issue 11, {FLOATING_MODEL})\n")
     print(text_table(header, rows))
+    for model in (TARGET_MODEL, FLOATING_MODEL):
+        header, rows = target_rows(records, list(compilers), have_pinocchio, DERIVATIVE_TARGETS, model)
+        print(f"\nDerivative targets (issue 13, {model})\n")
+        print(text_table(header, rows))
     print(f"\nreport.py: wrote {os.path.join(args.output, 'report.md')}, summary.json and charts")
 
 

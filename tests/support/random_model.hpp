@@ -89,6 +89,20 @@ inline Model<double> random_model(int n, Shape shape, unsigned seed, bool all_jo
   return build_model(random_bodies(n, shape, seed, all_joint_types));
 }
 
+/// A random root-body inertia (mass 1–3 kg, CoM within 0.1 of the origin).
+inline Inertia<double> random_root_inertia(std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const double m = 2.0 + u(rng);
+  return Inertia<double>::from_com(m, 0.1 * Vector3<double>(u(rng), u(rng), u(rng)), random_inertia_com(rng, m));
+}
+
+/// A floating-base model: the random tree of `random_model` (every joint type) under a random root body "root".
+inline FloatingModel<double> random_floating(int n, Shape shape, unsigned seed,
+                                             const Vector3<double>& gravity = {0, 0, -9.81}) {
+  std::mt19937 rng(seed + 1000);
+  return FloatingModel<double>(build_model(random_bodies(n, shape, seed), gravity), random_root_inertia(rng), "root");
+}
+
 /// A random vector of n entries uniform in [-scale, scale].
 inline Eigen::VectorXd random_vector(int n, std::mt19937& rng, double scale = 1.0) {
   std::uniform_real_distribution<double> u(-scale, scale);

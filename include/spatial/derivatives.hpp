@@ -1,0 +1,501 @@
+#pragma once
+/// \file derivatives.hpp
+/// Analytical derivatives of inverse and forward dynamics, for fixed- and floating-base trees, compile-time and
+/// run-time, any scalar type.
+///
+///   rnea_derivatives(model, data, dd, q, v, a[, fext, frame])  → dd.dtau_dq = ∂τ/∂q, dd.dtau_dv = ∂τ/∂v
+///                                                                 (∂τ/∂a = H: `crba`); τ itself in data.tau
+///   aba_derivatives(model, data, dd, q, v, τ[, fext, frame])    → dd.dqdd_dq, dd.dqdd_dv, dd.dqdd_dtau = H⁻¹;
+///                                                                 q̈ in data.qdd
+///
+/// **Tangent space.** On a floating base, derivatives with respect to q are taken in the tangent space at q: column
+/// k is d/dε τ(integrate(q, ε e_k), v, a) at ε = 0 (nv columns; the free-flyer's six are a body-frame twist of the
+/// root, linear first, as v). Pinocchio's `computeRNEADerivatives` / `computeABADerivatives` use the same
+/// convention, so the matrices compare entry by entry. Rows and columns are ordered as v (and τ).
+///
+/// **Every entry is written**, on every call (no accumulation across calls): entries between joints of which
+/// neither is an ancestor of the other are structurally zero and are zeroed once, when `dd` is built.
+///
+/// **The algorithm** (derived for this library; the idea is that of Carpentier & Mansard, RSS 2018). All quantities
+/// are expressed in one inertial frame, the base frame (root coordinates at q for a floating base, fixed for the
+/// differentiation). There, with Sⱼ joint j's axis, p = λ(j) its parent and i ⪰ j meaning "i is j or a descendant":
+///   ∂Sᵢ/∂qⱼ = Sⱼ × Sᵢ,   ∂vᵢ/∂qⱼ = Sⱼ × (vᵢ − v_p),   ∂aᵢ/∂qⱼ = Sⱼ × (aᵢ − a_p) + (vᵢ − v_p) × βⱼ,
+///   ∂vᵢ/∂q̇ⱼ = Sⱼ,         ∂aᵢ/∂q̇ⱼ = Sⱼ × vᵢ − 2βⱼ          (i ⪰ j; βⱼ = Sⱼ × v_p),
+/// and the body inertias and body-fixed forces of the subtree turn with it (∂I/∂qⱼ = Sⱼ×* I − I Sⱼ×). Summing
+/// the body forces fₖ = Iₖ aₖ + vₖ ×* Iₖ vₖ − fₖˣ over subtrees, the parts that only turn rigidly with the subtree
+/// cancel against ∂Sᵢ/∂qⱼ, and what is left is linear in per-body subtree sums: the composite inertia Iᶜ, the
+/// composite "velocity coupling" Bᶜ (Bₖ u = Iₖ (vₖ × u) − u ×* Iₖvₖ − vₖ ×* Iₖ u) and the subtree force F:
+///   row i, column j ⪯ i:   ∂τᵢ/∂qⱼ = Sᵢᵀ(Bᶜᵢ βⱼ − Iᶜᵢ αⱼ) − Sⱼᵀ(Sᵢ ×* Fˣᵢ),  ∂τᵢ/∂q̇ⱼ = −Sᵢᵀ(Bᶜᵢ Sⱼ + 2 Iᶜᵢ βⱼ)
+///   row i, column j ≻ i:   ∂τᵢ/∂qⱼ = Sᵢᵀ(Sⱼ ×* Fⱼ′ + Bᶜⱼ βⱼ − Iᶜⱼ αⱼ),           ∂τᵢ/∂q̇ⱼ = −Sᵢᵀ(Bᶜⱼ Sⱼ + 2 Iᶜⱼ βⱼ)
+/// with αⱼ = Sⱼ × a_p + v_p × βⱼ, Fˣ the subtree's external forces that are fixed in the base frame
+/// (`ForceFrame::Base`; zero for body-frame forces, which turn with their body) and Fⱼ′ = Fⱼ + Fˣⱼ. Per row i the
+/// code keeps Pᵢ = Iᶜᵢ Sᵢ and Qᵢ = Bᶜᵢᵀ Sᵢ, per column j the vectors αⱼ, βⱼ, Bᶜⱼ βⱼ …, so that each entry is one or
+/// two 6-vector dot products: one forward pass, one backward pass with a walk over each joint's ancestors (the
+/// sparsity of CRBA), no 6 × n blocks. Bᶜ = Wᶜ + Wᶜᵀ + h̄ᶜ, with Wᶜ = Σ Iₖ (vₖ×) and h̄ᶜ u = −u ×* Σ Iₖ vₖ.
+/// The free-flyer is the six columns Sᵦ = unit twists of the root (v_p = 0, a_p = −a_g), whose ∂a/∂v differs from
+/// a one-DoF joint's (the root's spatial acceleration is v̇ itself): ∂τᵢ/∂vᵦ = Sᵢᵀ(Iᶜᵢ (v₀ × Sᵦ) − Bᶜᵢ Sᵦ).
+///
+/// Forward dynamics: q̈ = FD(q, v, τ) satisfies RNEA(q, v, q̈) = τ, so ∂q̈/∂x = −H⁻¹ ∂τ/∂x at (q, v, q̈) for
+/// x = q, v, and ∂q̈/∂τ = H⁻¹ (computed from CRBA and the tree-sparse LTDL factor).
+
+#include "spatial/algorithms.hpp"
+#include "spatial/floating.hpp"
+
+#include <cstddef>
+#include <type_traits>
+
+namespace spatial {
+
+namespace detail {
+
+/// Per-body buffers of `rnea_derivatives` (base coordinates).
+template <class S, class T>
+struct DerivativeBodies {
+  using ModelType = Model<S, T>;
+  template <class X>
+  using Array = typename ModelType::template Array<X>;
+
+  explicit DerivativeBodies(const ModelType& model) {
+    if constexpr (!ModelType::is_static) {
+      const auto k = static_cast<std::size_t>(model.size());
+      S0.resize(k); v.resize(k); a.resize(k); alpha.resize(k); beta.resize(k);
+      Ic.resize(k); W.resize(k); hc.resize(k); F.resize(k); Fx.resize(k);
+    } else {
+      (void)model;
+    }
+  }
+
+  Array<Motion<S>> S0{};     ///< joint axis Sᵢ
+  Array<Motion<S>> v{};      ///< body velocity
+  Array<Motion<S>> a{};      ///< body acceleration minus gravity
+  Array<Motion<S>> alpha{};  ///< αᵢ = Sᵢ × a_λ(i) + v_λ(i) × βᵢ
+  Array<Motion<S>> beta{};   ///< βᵢ = Sᵢ × v_λ(i)
+  Array<Inertia<S>> Ic{};    ///< subtree inertia
+  Array<Matrix6<S>> W{};     ///< Σ over the subtree of Iₖ (vₖ×)
+  Array<Force<S>> hc{};      ///< subtree momentum Σ Iₖ vₖ
+  Array<Force<S>> F{};       ///< subtree force Σ (Iₖ aₖ + vₖ ×* Iₖ vₖ − fₖˣ)
+  Array<Force<S>> Fx{};      ///< subtree external force fixed in the base frame (ForceFrame::Base only)
+};
+
+/// I (v×) as a 6 × 6 matrix (motion → force, angular first): with I = [Ī h̃; h̃ᵀ m1] and v× = [ω̃ 0; ṽ ω̃],
+/// [Ī ω̃ + h̃ ṽ, h̃ ω̃; −h̃ ω̃ + m ṽ, m ω̃], using ã b̃ = b aᵀ − (a·b) 1.
+template <class S>
+SPATIAL_INLINE void inertia_cross(const Inertia<S>& I, const Motion<S>& v, Matrix6<S>& out) {
+  const Vector3<S>& w = v.w;
+  const Vector3<S>& u = v.v;
+  const Matrix3<S> wx = skew(w);
+  const Matrix3<S> hw = w * I.h.transpose() - I.h.dot(w) * Matrix3<S>::Identity();  // h̃ ω̃
+  const Matrix3<S> hu = u * I.h.transpose() - I.h.dot(u) * Matrix3<S>::Identity();  // h̃ ṽ
+  out.template topLeftCorner<3, 3>() = I.I * wx + hu;
+  out.template topRightCorner<3, 3>() = hw;
+  out.template bottomLeftCorner<3, 3>() = I.m * skew(u) - hw;
+  out.template bottomRightCorner<3, 3>() = I.m * wx;
+}
+
+template <class S>
+SPATIAL_INLINE Force<S> mul6(const Matrix6<S>& M, const Motion<S>& m) {
+  Vector6<S> x;
+  x << m.w, m.v;
+  return Force<S>(Vector6<S>(M * x));
+}
+/// Mᵀ m for a motion → force matrix M, as a force-like vector (it pairs with motions: (Mᵀ m)·u = m·(M u)).
+template <class S>
+SPATIAL_INLINE Force<S> mul6_t(const Matrix6<S>& M, const Motion<S>& m) {
+  Vector6<S> x;
+  x << m.w, m.v;
+  return Force<S>(Vector6<S>(M.transpose() * x));
+}
+
+/// The free-flyer's column entries of row i (linear first) from Pᵢ, Qᵢ and Rᵢ = Sᵢ ×* Fˣᵢ: with Sᵦ the unit twists
+/// of the root, ∂τᵢ/∂qᵦ = −αᵦ·Pᵢ − Sᵦ·Rᵢ (αᵦ = Sᵦ × (0, −g)) and ∂τᵢ/∂vᵦ = −Sᵦ·Qᵢ + Pᵢ·(v₀ × Sᵦ).
+template <class S, class RowQ, class RowV>
+SPATIAL_INLINE void free_flyer_columns(const Force<S>& P, const Force<S>& Q, const Force<S>* R, const Vector3<S>& g,
+                                       const Motion<S>& v0, RowQ&& dq, RowV&& dv) {
+  using namespace detail;
+  const Vector3<S> dq_ang = cross3(g, P.f);  // −(Pᶠ × g)
+  const Vector3<S> dv_lin = sub3(cross3(P.f, v0.w), Q.f);
+  const Vector3<S> dv_ang = sub3(add3(cross3(P.n, v0.w), cross3(P.f, v0.v)), Q.n);
+  for (int c = 0; c < 3; ++c) {
+    dq(c) = R ? -R->f[c] : S(0);
+    dq(3 + c) = R ? dq_ang[c] - R->n[c] : dq_ang[c];
+    dv(c) = dv_lin[c];
+    dv(3 + c) = dv_ang[c];
+  }
+}
+
+/// The root of the recursion: fixed (v = 0, a = −a_g) or a free-flying root body with its own accumulators.
+template <class S>
+struct DerivativeRoot {
+  bool floating = false;
+  Motion<S> v = Motion<S>::Zero(), a = Motion<S>::Zero();
+  // Floating only: the root body's subtree sums (the whole robot).
+  Inertia<S> Ic = Inertia<S>::Zero();
+  Matrix6<S> W = Matrix6<S>::Zero();
+  Force<S> hc = Force<S>::Zero(), F = Force<S>::Zero(), Fx = Force<S>::Zero();
+};
+
+/// The tree's part of the RNEA derivatives. Writes rows/columns `off + i` of dq and dv, τᵢ into tau[off + i] and,
+/// for a floating root, the free-flyer's rows (0…5) for the tree's columns and its columns for the tree's rows.
+template <class S, class T, class Q, class V, class A, class Ext, class MQ, class MV, class Tau, class MH>
+void rnea_derivatives_tree(const Model<S, T>& model, Data<S, T>& data, DerivativeBodies<S, T>& b,
+                           const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<V>& v,
+                           const Eigen::MatrixBase<A>& a, const Ext& fext, ForceFrame frame,
+                           DerivativeRoot<S>& root, const Vector3<S>& g_base, int off, MQ& dq, MV& dv, Tau& tau,
+                           MH* H) {
+  constexpr bool X = has_external_v<Ext>;
+  constexpr bool WithH = !std::is_same_v<MH, std::nullptr_t>;  // H as a by-product: Hᵢⱼ = Sⱼ · Iᶜᵢ Sᵢ (j ⪯ i)
+  (void)H;
+  const bool world_forces = X && frame == ForceFrame::Base;
+  joint_sincos(model, data, q);
+
+  for_each_body(model, [&](auto I) {
+    const int i = I;
+    const auto k = static_cast<std::size_t>(i);
+    const int p = model.parent(I);
+    const auto pk = static_cast<std::size_t>(p);
+    update_transform<true>(model, data, I, q);
+    const Transform<S>& X0 = data.X_base[k];
+    const Motion<S>& vp = p >= 0 ? b.v[pk] : root.v;
+    const Motion<S>& ap = p >= 0 ? b.a[pk] : root.a;
+    const Motion<S> Si = model.joint(I).subspace_inverse(X0);
+    const S qd = S(v[i]), qdd = S(a[i]);
+    b.S0[k] = Si;
+    b.v[k] = vp + Si * qd;
+    b.a[k] = ap + Si * qdd + cross(b.v[k], Si) * qd;
+    b.beta[k] = cross(Si, vp);
+    b.alpha[k] = cross(Si, ap) + cross(vp, b.beta[k]);
+    const Inertia<S> In = model.inertia(i).transformed_inverse(X0);
+    const Force<S> h = In * b.v[k];
+    b.F[k] = In * b.a[k] + cross(b.v[k], h);
+    if constexpr (X) {
+      if (world_forces) {
+        b.Fx[k] = fext[k];
+        b.F[k] -= fext[k];
+      } else {
+        b.F[k] -= X0.apply_force_inverse(fext[k]);
+      }
+    }
+    b.Ic[k] = In;
+    b.hc[k] = h;
+    inertia_cross(In, b.v[k], b.W[k]);
+  });
+
+  for_each_body_reverse(model, [&](auto I) {
+    const int i = I;
+    const auto k = static_cast<std::size_t>(i);
+    const int p = model.parent(I);
+    const Motion<S>& Si = b.S0[k];
+    const Inertia<S>& Ic = b.Ic[k];
+    const Matrix6<S>& W = b.W[k];
+    const Force<S> P = Ic * Si;
+    const Force<S> WS = mul6(W, Si), WtS = mul6_t(W, Si);
+    const Force<S> Sh = cross(Si, b.hc[k]);
+    const Force<S> Qr = WS + WtS + Sh;              // Bᶜᵀ S
+    const Force<S> BS = WS + WtS - Sh;              // Bᶜ S
+    const Motion<S>& be = b.beta[k];
+    const Force<S> Bb = mul6(W, be) + mul6_t(W, be) - cross(be, b.hc[k]);  // Bᶜ β
+    const Force<S> Y = -(BS + S(2) * (Ic * be));
+    Force<S> Fp = b.F[k];
+    Force<S> R = Force<S>::Zero();
+    if (world_forces) {
+      Fp += b.Fx[k];
+      R = cross(Si, b.Fx[k]);
+    }
+    const Force<S> Z = cross(Si, Fp) + Bb - Ic * b.alpha[k];
+    const int r = off + i;
+    tau[r] = dot(Si, b.F[k]);
+    dq(r, r) = dot(be, Qr) - dot(b.alpha[k], P);
+    dv(r, r) = -dot(Si, Qr) - S(2) * dot(be, P);
+    if constexpr (WithH) (*H)(r, r) = dot(Si, P);
+    walk_up(model, I, [&](auto, auto J) {
+      const auto jk = static_cast<std::size_t>(int(J));
+      const int c = off + int(J);
+      const Motion<S>& Sj = b.S0[jk];
+      S x = dot(b.beta[jk], Qr) - dot(b.alpha[jk], P);
+      if (world_forces) x -= dot(Sj, R);
+      dq(r, c) = x;
+      dv(r, c) = -dot(Sj, Qr) - S(2) * dot(b.beta[jk], P);
+      dq(c, r) = dot(Sj, Z);
+      dv(c, r) = dot(Sj, Y);
+      if constexpr (WithH) (*H)(r, c) = (*H)(c, r) = dot(Sj, P);
+    });
+    if (root.floating) {
+      // The free-flyer's rows for column i (S_b·Z, S_b·Y, linear first) and its columns for row i.
+      for (int c = 0; c < 3; ++c) {
+        dq(c, r) = Z.f[c];
+        dq(3 + c, r) = Z.n[c];
+        dv(c, r) = Y.f[c];
+        dv(3 + c, r) = Y.n[c];
+        if constexpr (WithH) {
+          (*H)(c, r) = (*H)(r, c) = P.f[c];
+          (*H)(3 + c, r) = (*H)(r, 3 + c) = P.n[c];
+        }
+      }
+      free_flyer_columns<S>(P, Qr, world_forces ? &R : nullptr, g_base, root.v,
+                            [&](int c) -> decltype(auto) { return dq(r, c); },
+                            [&](int c) -> decltype(auto) { return dv(r, c); });
+    }
+    if (p >= 0) {
+      const auto pk = static_cast<std::size_t>(p);
+      b.Ic[pk] += Ic;
+      b.W[pk] += W;
+      b.hc[pk] += b.hc[k];
+      b.F[pk] += b.F[k];
+      if (world_forces) b.Fx[pk] += b.Fx[k];
+    } else if (root.floating) {
+      root.Ic += Ic;
+      root.W += W;
+      root.hc += b.hc[k];
+      root.F += b.F[k];
+      if (world_forces) root.Fx += b.Fx[k];
+    }
+  });
+}
+
+/// X ← H⁻¹ X with the factor from `ltdl`: `ltdl_solve` on all columns of X at once, each step an operation on
+/// whole rows of X. `row(k)` returns row k of X as a writable vector expression: callers pass the columns of Xᵀ
+/// (contiguous in Eigen's column-major storage, so every step is one vectorised axpy).
+template <class S, class T, class Row>
+void ltdl_solve_rows(const Model<S, T>& model, const Data<S, T>& data, Row&& x_row) {
+  const auto& L = data.L;
+  for_each_body_reverse(model, [&](auto I) {
+    const int i = I;
+    walk_up(model, I, [&](auto, auto J) { x_row(int(J)) -= L(i, int(J)) * x_row(i); });
+  });
+  for_each_body(model, [&](auto I) { x_row(int(I)) *= S(1) / L(int(I), int(I)); });
+  for_each_body(model, [&](auto I) {
+    const int i = I;
+    walk_up(model, I, [&](auto, auto J) { x_row(i) -= L(i, int(J)) * x_row(int(J)); });
+  });
+}
+/// The same for a floating base (rows 0…5: the free-flyer), following the floating `ltdl_solve`.
+template <class S, class T, class Row>
+void ltdl_solve_rows(const FloatingModel<S, T>& model, const FloatingData<S, T>& data, Row&& x_row) {
+  const auto& tree = model.tree();
+  const auto& L = data.L;
+  for_each_body_reverse(tree, [&](auto I) {
+    const int i = 6 + int(I);
+    walk_up(tree, I, [&](auto, auto J) { x_row(6 + int(J)) -= L(i, 6 + int(J)) * x_row(i); });
+    for (int c = 0; c < 6; ++c) x_row(c) -= L(i, c) * x_row(i);
+  });
+  for (int i = 5; i >= 0; --i)
+    for (int c = 0; c < i; ++c) x_row(c) -= L(i, c) * x_row(i);
+  for (int i = 0; i < model.nv(); ++i) x_row(i) *= S(1) / L(i, i);
+  for (int i = 0; i < 6; ++i)
+    for (int c = 0; c < i; ++c) x_row(i) -= L(i, c) * x_row(c);
+  for_each_body(tree, [&](auto I) {
+    const int i = 6 + int(I);
+    walk_up(tree, I, [&](auto, auto J) { x_row(i) -= L(i, 6 + int(J)) * x_row(6 + int(J)); });
+    for (int c = 0; c < 6; ++c) x_row(i) -= L(i, c) * x_row(c);
+  });
+}
+
+}  // namespace detail
+
+/// Buffers and results of the fixed-base derivatives, allocated once here.
+template <class S, class T = DynamicTree>
+struct DerivativeData {
+  using ModelType = Model<S, T>;
+  static constexpr int NB = ModelType::NB;
+  static constexpr int NM = detail::matrix_dim(NB);
+  using MatrixN = Eigen::Matrix<S, NM, NM>;
+
+  explicit DerivativeData(const ModelType& model) : bodies(model) {
+    const int n = model.size();
+    dtau_dq = MatrixN::Zero(n, n);
+    dtau_dv = MatrixN::Zero(n, n);
+    dqdd_dq = MatrixN::Zero(n, n);
+    dqdd_dv = MatrixN::Zero(n, n);
+    dqdd_dtau = MatrixN::Zero(n, n);
+    scratch = MatrixN::Zero(n, n);
+  }
+
+  detail::DerivativeBodies<S, T> bodies;  ///< per-body scratch (base coordinates)
+  MatrixN dtau_dq, dtau_dv;               ///< ∂τ/∂q, ∂τ/∂q̇ (rnea_derivatives; row = τ index, column = q index)
+  MatrixN dqdd_dq, dqdd_dv, dqdd_dtau;    ///< ∂q̈/∂q, ∂q̈/∂q̇, ∂q̈/∂τ = H⁻¹ (aba_derivatives)
+  MatrixN scratch;                        ///< aba_derivatives' work matrix
+};
+
+/// Buffers and results of the floating-base derivatives (nv × nv, tangent space, see the file comment).
+template <class S, class T = DynamicTree>
+struct FloatingDerivativeData {
+  using ModelType = FloatingModel<S, T>;
+  static constexpr int NV = ModelType::NV;
+  static constexpr int NM = detail::matrix_dim(NV);
+  using MatrixV = Eigen::Matrix<S, NM, NM>;
+
+  explicit FloatingDerivativeData(const ModelType& model) : bodies(model.tree()) {
+    const int n = model.nv();
+    dtau_dq = MatrixV::Zero(n, n);
+    dtau_dv = MatrixV::Zero(n, n);
+    dqdd_dq = MatrixV::Zero(n, n);
+    dqdd_dv = MatrixV::Zero(n, n);
+    dqdd_dtau = MatrixV::Zero(n, n);
+    scratch = MatrixV::Zero(n, n);
+  }
+
+  detail::DerivativeBodies<S, T> bodies;
+  MatrixV dtau_dq, dtau_dv;
+  MatrixV dqdd_dq, dqdd_dv, dqdd_dtau;
+  MatrixV scratch;
+};
+
+namespace detail {
+template <class S, class T, class Q, class QD, class QDD, class Ext, class MH>
+void rnea_derivatives_impl(const Model<S, T>& model, Data<S, T>& data, DerivativeData<S, T>& dd,
+                           const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<QD>& qd,
+                           const Eigen::MatrixBase<QDD>& qdd, const Ext& fext, ForceFrame frame, MH* H) {
+  DerivativeRoot<S> root;
+  root.a = -model.gravity_motion();
+  rnea_derivatives_tree(model, data, dd.bodies, q, qd, qdd, fext, frame, root, model.gravity(), 0, dd.dtau_dq,
+                        dd.dtau_dv, data.tau, H);
+}
+}  // namespace detail
+
+/// ∂τ/∂q and ∂τ/∂q̇ of τ = RNEA(q, q̇, q̈, fext) into `dd.dtau_dq`, `dd.dtau_dv` (n × n, row = joint of τ,
+/// column = joint differentiated), and τ itself into `data.tau`. `fext` and `frame` as for `rnea`: body-frame
+/// forces turn with their body, base-frame forces stay fixed when q changes. ∂τ/∂q̈ is H (`crba`). No allocation.
+template <class S, class T, class Q, class QD, class QDD, class Ext = NoExternalForces>
+void rnea_derivatives(const Model<S, T>& model, Data<S, T>& data, DerivativeData<S, T>& dd,
+                      const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<QD>& qd,
+                      const Eigen::MatrixBase<QDD>& qdd, const Ext& fext = Ext(),
+                      ForceFrame frame = ForceFrame::Body) {
+  detail::check_sizes(model, "rnea_derivatives", "q", q, "qd", qd, "qdd", qdd);
+  detail::rnea_derivatives_impl(model, data, dd, q, qd, qdd, fext, frame, static_cast<std::nullptr_t*>(nullptr));
+}
+
+namespace detail {
+template <class S, class T, class Q, class V, class A, class Ext, class MH>
+void rnea_derivatives_impl(const FloatingModel<S, T>& model, FloatingData<S, T>& data,
+                           FloatingDerivativeData<S, T>& dd, const Eigen::MatrixBase<Q>& q,
+                           const Eigen::MatrixBase<V>& v, const Eigen::MatrixBase<A>& a, const Ext& fext,
+                           ForceFrame frame, MH* H) {
+  constexpr bool WithH = !std::is_same_v<MH, std::nullptr_t>;
+  constexpr bool X = has_external_v<Ext>;
+  constexpr int NJ = FloatingModel<S, T>::NJ;
+  const int n = model.njoints();
+  data.X0 = root_transform<S>(q);
+  const Vector3<S> g = data.X0.E * model.gravity();  // gravity in root coordinates
+  DerivativeRoot<S> root;
+  root.floating = true;
+  root.v = root_motion(v).template cast<S>();
+  root.a = root_motion(a).template cast<S>();
+  root.a.v -= g;
+  data.v0 = root.v;
+  data.a0 = root.a;
+  const Inertia<S>& I0 = model.root_inertia();
+  const Force<S> h0 = I0 * root.v;
+  root.Ic = I0;
+  root.hc = h0;
+  inertia_cross(I0, root.v, root.W);
+  root.F = I0 * root.a + cross(root.v, h0);
+  const bool world_forces = X && frame == ForceFrame::Base;
+  if constexpr (X) {
+    if (world_forces) {
+      root.Fx = data.X0.apply_force(fext[0]);
+      root.F -= root.Fx;
+    } else {
+      root.F -= fext[0];
+    }
+  }
+  const auto qj = joint_block<NJ>(q, 7, n);
+  const auto vj = joint_block<NJ>(v, 6, n);
+  const auto aj = joint_block<NJ>(a, 6, n);
+  if constexpr (X) {
+    if (world_forces) {
+      const TreeForcesFromWorld<S, Ext> tf{fext, data.X0};
+      rnea_derivatives_tree(model.tree(), data.tree, dd.bodies, qj, vj, aj, tf, ForceFrame::Base, root, g, 6,
+                            dd.dtau_dq, dd.dtau_dv, data.tau, H);
+    } else {
+      const TreeForces<Ext> tf{fext};
+      rnea_derivatives_tree(model.tree(), data.tree, dd.bodies, qj, vj, aj, tf, ForceFrame::Body, root, g, 6,
+                            dd.dtau_dq, dd.dtau_dv, data.tau, H);
+    }
+  } else {
+    rnea_derivatives_tree(model.tree(), data.tree, dd.bodies, qj, vj, aj, fext, ForceFrame::Body, root, g, 6,
+                          dd.dtau_dq, dd.dtau_dv, data.tau, H);
+  }
+  // The free-flyer's 6 × 6 block: rows Sₐ (Pₐ = Iᶜ₀ Sₐ, Qₐ = Bᶜ₀ᵀ Sₐ, Rₐ = Sₐ ×* Fˣ₀), columns as for any row.
+  data.f0 = root.F;
+  data.tau.template head<3>() = root.F.f;
+  data.tau.template segment<3>(3) = root.F.n;
+  for (int r = 0; r < 6; ++r) {
+    Motion<S> Sa = Motion<S>::Zero();
+    if (r < 3) Sa.v[r] = S(1);
+    else Sa.w[r - 3] = S(1);
+    const Force<S> P = root.Ic * Sa;
+    const Force<S> Qr = mul6(root.W, Sa) + mul6_t(root.W, Sa) + cross(Sa, root.hc);
+    const Force<S> R = cross(Sa, root.Fx);
+    free_flyer_columns<S>(P, Qr, world_forces ? &R : nullptr, g, root.v,
+                          [&](int c) -> decltype(auto) { return dd.dtau_dq(r, c); },
+                          [&](int c) -> decltype(auto) { return dd.dtau_dv(r, c); });
+  }
+  if constexpr (WithH) {  // the free-flyer's block of H: Iᶜ₀, linear first ([m1 h̃ᵀ; h̃ Ī])
+    const Matrix3<S> hx = skew(root.Ic.h);
+    H->template block<3, 3>(0, 0) = root.Ic.m * Matrix3<S>::Identity();
+    H->template block<3, 3>(0, 3) = hx.transpose();
+    H->template block<3, 3>(3, 0) = hx;
+    H->template block<3, 3>(3, 3) = root.Ic.I;
+  }
+}
+}  // namespace detail
+
+/// The floating-base version: nv × nv matrices in the tangent space (see the file comment), τ (nv) in `data.tau`.
+/// `fext` and `frame` as for the floating `rnea` (n + 1 forces, [0] on the root; `ForceFrame::Base` = world).
+template <class S, class T, class Q, class V, class A, class Ext = NoExternalForces>
+void rnea_derivatives(const FloatingModel<S, T>& model, FloatingData<S, T>& data, FloatingDerivativeData<S, T>& dd,
+                      const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<V>& v, const Eigen::MatrixBase<A>& a,
+                      const Ext& fext = Ext(), ForceFrame frame = ForceFrame::Body) {
+  detail::check_q(model, q, "rnea_derivatives");
+  detail::check_v(model, v, "rnea_derivatives", "v");
+  detail::check_v(model, a, "rnea_derivatives", "a");
+  detail::rnea_derivatives_impl(model, data, dd, q, v, a, fext, frame, static_cast<std::nullptr_t*>(nullptr));
+}
+
+namespace detail {
+/// ∂q̈/∂τ = H⁻¹, ∂q̈/∂q = −H⁻¹ ∂τ/∂q, ∂q̈/∂v = −H⁻¹ ∂τ/∂v from the LTDL factor in `data.L`.
+template <class M, class D, class DD>
+void aba_derivatives_solve(const M& model, const D& data, DD& dd) {
+  // H⁻¹ is symmetric: solve on the columns of the identity. The others: solve Yᵀ = −Bᵀ H⁻¹ on columns, transpose.
+  dd.dqdd_dtau.setIdentity();
+  ltdl_solve_rows(model, data, [&](int k) { return dd.dqdd_dtau.col(k); });
+  dd.scratch = -dd.dtau_dq.transpose();
+  ltdl_solve_rows(model, data, [&](int k) { return dd.scratch.col(k); });
+  dd.dqdd_dq = dd.scratch.transpose();
+  dd.scratch = -dd.dtau_dv.transpose();
+  ltdl_solve_rows(model, data, [&](int k) { return dd.scratch.col(k); });
+  dd.dqdd_dv = dd.scratch.transpose();
+}
+}  // namespace detail
+
+/// ∂q̈/∂q, ∂q̈/∂q̇ and ∂q̈/∂τ = H⁻¹ of q̈ = FD(q, q̇, τ, fext) into `dd` (n × n), and q̈ into `data.qdd`: q̈ by ABA,
+/// then RNEA's derivatives at (q, q̇, q̈) with H as their by-product (Hᵢⱼ = Sⱼ · Iᶜᵢ Sᵢ, into `data.H`), its
+/// tree-sparse LTDL factor, and ∂q̈/∂x = −H⁻¹ ∂τ/∂x.
+template <class S, class T, class Q, class QD, class Tau, class Ext = NoExternalForces>
+void aba_derivatives(const Model<S, T>& model, Data<S, T>& data, DerivativeData<S, T>& dd,
+                     const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<QD>& qd,
+                     const Eigen::MatrixBase<Tau>& tau, const Ext& fext = Ext(), ForceFrame frame = ForceFrame::Body) {
+  detail::check_sizes(model, "aba_derivatives", "q", q, "qd", qd, "tau", tau);
+  aba(model, data, q, qd, tau, fext, frame);
+  detail::rnea_derivatives_impl(model, data, dd, q, qd, data.qdd, fext, frame, &data.H);
+  ltdl(model, data);
+  detail::aba_derivatives_solve(model, data, dd);
+}
+
+/// The floating-base version (nv × nv, tangent space), q̈ (nv) into `data.qdd`.
+template <class S, class T, class Q, class V, class Tau, class Ext = NoExternalForces>
+void aba_derivatives(const FloatingModel<S, T>& model, FloatingData<S, T>& data, FloatingDerivativeData<S, T>& dd,
+                     const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<V>& v,
+                     const Eigen::MatrixBase<Tau>& tau, const Ext& fext = Ext(), ForceFrame frame = ForceFrame::Body) {
+  detail::check_q(model, q, "aba_derivatives");
+  detail::check_v(model, v, "aba_derivatives", "v");
+  detail::check_v(model, tau, "aba_derivatives", "tau");
+  aba(model, data, q, v, tau, fext, frame);
+  data.tmp = data.qdd;
+  detail::rnea_derivatives_impl(model, data, dd, q, v, data.tmp, fext, frame, &data.H);
+  ltdl(model, data);
+  detail::aba_derivatives_solve(model, data, dd);
+  data.qdd = data.tmp;
+}
+
+}  // namespace spatial
