@@ -3,26 +3,17 @@
 // forces in both frames. Guarded by Eigen's run-time check and by the counting global operator new of
 // nomalloc_algorithms.cpp (same executable).
 
-#ifndef EIGEN_RUNTIME_NO_MALLOC
-#error "nomalloc tests must be compiled with -DEIGEN_RUNTIME_NO_MALLOC"
-#endif
-#ifdef NDEBUG
-#error "nomalloc tests need eigen_assert: compile without NDEBUG (-UNDEBUG)"
-#endif
-
 #include <spatial/spatial.hpp>
 #include <spatial/models/hoap3_floating.hpp>
 #include <spatial/models/hoap3_stance_right.hpp>
 
+#include "support/no_allocation.hpp"
 #include "support/random_model.hpp"
 
 #include <gtest/gtest.h>
 
 #include <random>
 #include <vector>
-
-/// Calls of the global operator new so far (nomalloc_algorithms.cpp counts them).
-long spatial_nomalloc_new_calls();
 
 namespace {
 
@@ -31,15 +22,7 @@ namespace st = spatial::testing;
 
 volatile double g_sink = 0;
 
-class NoAllocationRegion {
- public:
-  NoAllocationRegion() : before_(spatial_nomalloc_new_calls()) { Eigen::internal::set_is_malloc_allowed(false); }
-  ~NoAllocationRegion() { Eigen::internal::set_is_malloc_allowed(true); }
-  long new_calls() const { return spatial_nomalloc_new_calls() - before_; }
-
- private:
-  long before_;
-};
+using spatial::testing::NoAllocationRegion;
 
 template <class M, class D, class DD, class Q, class V, class F>
 void exercise(const M& model, D& data, DD& dd, const Q& q, const V& v, const V& a, const F& f) {

@@ -111,7 +111,6 @@ SPATIAL_INLINE Force<S> mul6_t(const Matrix6<S>& M, const Motion<S>& m) {
 template <class S, class RowQ, class RowV>
 SPATIAL_INLINE void free_flyer_columns(const Force<S>& P, const Force<S>& Q, const Force<S>* R, const Vector3<S>& g,
                                        const Motion<S>& v0, RowQ&& dq, RowV&& dv) {
-  using namespace detail;
   const Vector3<S> dq_ang = cross3(g, P.f);  // −(Pᶠ × g)
   const Vector3<S> dv_lin = sub3(cross3(P.f, v0.w), Q.f);
   const Vector3<S> dv_ang = sub3(add3(cross3(P.n, v0.w), cross3(P.f, v0.v)), Q.n);
@@ -292,52 +291,39 @@ void ltdl_solve_rows(const FloatingModel<S, T>& model, const FloatingData<S, T>&
 
 }  // namespace detail
 
-/// Buffers and results of the fixed-base derivatives, allocated once here.
+namespace detail {
+/// The buffers and results both derivative data types hold: per-body scratch of the tree and N × N matrices.
+template <class S, class T, int N>
+struct DerivativeBuffers {
+  using Matrix = Eigen::Matrix<S, matrix_dim(N), matrix_dim(N)>;
+
+  DerivativeBuffers(const Model<S, T>& tree, int n)
+      : bodies(tree), dtau_dq(Matrix::Zero(n, n)), dtau_dv(Matrix::Zero(n, n)), dqdd_dq(Matrix::Zero(n, n)),
+        dqdd_dv(Matrix::Zero(n, n)), dqdd_dtau(Matrix::Zero(n, n)), scratch(Matrix::Zero(n, n)) {}
+
+  DerivativeBodies<S, T> bodies;      ///< per-body scratch (base coordinates)
+  Matrix dtau_dq, dtau_dv;            ///< ∂τ/∂q, ∂τ/∂q̇ (rnea_derivatives; row = τ index, column = q index)
+  Matrix dqdd_dq, dqdd_dv, dqdd_dtau; ///< ∂q̈/∂q, ∂q̈/∂q̇, ∂q̈/∂τ = H⁻¹ (aba_derivatives)
+  Matrix scratch;                     ///< aba_derivatives' work matrix
+};
+}  // namespace detail
+
+/// Buffers and results of the fixed-base derivatives (n × n), allocated once here.
 template <class S, class T = DynamicTree>
-struct DerivativeData {
+struct DerivativeData : detail::DerivativeBuffers<S, T, Model<S, T>::NB> {
   using ModelType = Model<S, T>;
-  static constexpr int NB = ModelType::NB;
-  static constexpr int NM = detail::matrix_dim(NB);
-  using MatrixN = Eigen::Matrix<S, NM, NM>;
-
-  explicit DerivativeData(const ModelType& model) : bodies(model) {
-    const int n = model.size();
-    dtau_dq = MatrixN::Zero(n, n);
-    dtau_dv = MatrixN::Zero(n, n);
-    dqdd_dq = MatrixN::Zero(n, n);
-    dqdd_dv = MatrixN::Zero(n, n);
-    dqdd_dtau = MatrixN::Zero(n, n);
-    scratch = MatrixN::Zero(n, n);
-  }
-
-  detail::DerivativeBodies<S, T> bodies;  ///< per-body scratch (base coordinates)
-  MatrixN dtau_dq, dtau_dv;               ///< ∂τ/∂q, ∂τ/∂q̇ (rnea_derivatives; row = τ index, column = q index)
-  MatrixN dqdd_dq, dqdd_dv, dqdd_dtau;    ///< ∂q̈/∂q, ∂q̈/∂q̇, ∂q̈/∂τ = H⁻¹ (aba_derivatives)
-  MatrixN scratch;                        ///< aba_derivatives' work matrix
+  using MatrixN = typename detail::DerivativeBuffers<S, T, ModelType::NB>::Matrix;
+  explicit DerivativeData(const ModelType& model)
+      : detail::DerivativeBuffers<S, T, ModelType::NB>(model, model.size()) {}
 };
 
 /// Buffers and results of the floating-base derivatives (nv × nv, tangent space, see the file comment).
 template <class S, class T = DynamicTree>
-struct FloatingDerivativeData {
+struct FloatingDerivativeData : detail::DerivativeBuffers<S, T, FloatingModel<S, T>::NV> {
   using ModelType = FloatingModel<S, T>;
-  static constexpr int NV = ModelType::NV;
-  static constexpr int NM = detail::matrix_dim(NV);
-  using MatrixV = Eigen::Matrix<S, NM, NM>;
-
-  explicit FloatingDerivativeData(const ModelType& model) : bodies(model.tree()) {
-    const int n = model.nv();
-    dtau_dq = MatrixV::Zero(n, n);
-    dtau_dv = MatrixV::Zero(n, n);
-    dqdd_dq = MatrixV::Zero(n, n);
-    dqdd_dv = MatrixV::Zero(n, n);
-    dqdd_dtau = MatrixV::Zero(n, n);
-    scratch = MatrixV::Zero(n, n);
-  }
-
-  detail::DerivativeBodies<S, T> bodies;
-  MatrixV dtau_dq, dtau_dv;
-  MatrixV dqdd_dq, dqdd_dv, dqdd_dtau;
-  MatrixV scratch;
+  using MatrixV = typename detail::DerivativeBuffers<S, T, ModelType::NV>::Matrix;
+  explicit FloatingDerivativeData(const ModelType& model)
+      : detail::DerivativeBuffers<S, T, ModelType::NV>(model.tree(), model.nv()) {}
 };
 
 namespace detail {
@@ -491,11 +477,9 @@ void aba_derivatives(const FloatingModel<S, T>& model, FloatingData<S, T>& data,
   detail::check_v(model, v, "aba_derivatives", "v");
   detail::check_v(model, tau, "aba_derivatives", "tau");
   aba(model, data, q, v, tau, fext, frame);
-  data.tmp = data.qdd;
-  detail::rnea_derivatives_impl(model, data, dd, q, v, data.tmp, fext, frame, &data.H);
+  detail::rnea_derivatives_impl(model, data, dd, q, v, data.qdd, fext, frame, &data.H);
   ltdl(model, data);
   detail::aba_derivatives_solve(model, data, dd);
-  data.qdd = data.tmp;
 }
 
 }  // namespace spatial
