@@ -15,7 +15,7 @@ const bool registered = [] {
   for_each_bench_model([](const auto& entry) {
     register_algorithms<double>(entry.name, "static", entry.model, entry.range);
     register_algorithms<float>(entry.name, "static", entry.model.template cast<float>(), entry.range);
-    register_algorithms<double>(entry.name, "runtime", to_runtime(entry.model), entry.range);
+    register_algorithms<double>(entry.name, "runtime", entry.model.to_runtime(), entry.range);
     const auto derivatives = [&](const std::string& tree, const auto& model) {
       using M = std::decay_t<decltype(model)>;
       using T = typename M::tree_type;
@@ -25,7 +25,7 @@ const bool registered = [] {
       });
     };
     derivatives("static", entry.model);
-    derivatives("runtime", to_runtime(entry.model));
+    derivatives("runtime", entry.model.to_runtime());
   });
   return true;
 }();

@@ -132,7 +132,7 @@ void register_ik(const std::string& tree, const FloatingModel<S, TreeT>& model) 
 const bool registered = [] {
   add_build_context();
   register_floating<double>("static", floating27());
-  register_floating<double>("runtime", floating_to_runtime(floating27()));
+  register_floating<double>("runtime", floating27().to_runtime());
   const auto derivatives = [](const std::string& tree, const auto& model) {
     using M = std::decay_t<decltype(model)>;
     using T = typename M::tree_type;
@@ -141,9 +141,9 @@ const bool registered = [] {
         model, pool, [&](const char* algorithm) { return bench_name("spatial", algorithm, "floating27", "double", tree); });
   };
   derivatives("static", floating27());
-  derivatives("runtime", floating_to_runtime(floating27()));
+  derivatives("runtime", floating27().to_runtime());
   register_ik<double>("static", floating27());
-  register_ik<double>("runtime", floating_to_runtime(floating27()));
+  register_ik<double>("runtime", floating27().to_runtime());
   return true;
 }();
 

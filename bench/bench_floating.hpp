@@ -25,19 +25,6 @@ inline const FloatingModel<double, Floating27Tree>& floating27() {
 /// The frame whose Jacobian the benchmarks time: the left sole (a fixed frame on the last body of the left leg).
 inline int floating27_frame() { return models::hoap3_floating::frame_index("L_SOLE"); }
 
-/// The run-time twin of a floating model, with its fixed frames (massless here: their mass is already merged).
-template <class TreeT>
-FloatingModel<double> floating_to_runtime(const FloatingModel<double, TreeT>& m) {
-  const Model<double, TreeT>& t = m.tree();
-  ModelBuilder<double> b;
-  b.set_gravity(t.gravity());
-  for (int i = 0; i < t.size(); ++i)
-    b.add_body(t.body_name(i), t.parent(i), t.joint_type(i), t.tree_transform(i), t.inertia(i), t.axis(i),
-               t.joint_name(i));
-  for (const FixedFrame<double>& f : t.frames()) b.add_fixed_body(f.name, f.body, f.X, Inertia<double>::Zero());
-  return FloatingModel<double>(b.build(), m.root_inertia(), m.root_name());
-}
-
 template <class S, int NQ = Eigen::Dynamic, int NV = Eigen::Dynamic>
 struct FloatingPool {
   std::vector<Eigen::Matrix<S, NQ, 1>> q;

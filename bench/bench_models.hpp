@@ -102,17 +102,6 @@ Model<double, TreeT> random_model(unsigned seed) {
   return Model<double, TreeT>::from(random_runtime_model<TreeT>(seed));
 }
 
-/// The run-time twin of any model (same numbers; fixed frames are not carried over, their inertia already is).
-template <class S, class TreeT>
-Model<S> to_runtime(const Model<S, TreeT>& m) {
-  ModelBuilder<S> b;
-  b.set_gravity(m.gravity());
-  for (int i = 0; i < m.size(); ++i)
-    b.add_body(m.body_name(i), m.parent(i), m.joint_type(i), m.tree_transform(i), m.inertia(i), m.axis(i),
-               m.joint_name(i));
-  return b.build();
-}
-
 /// Where the random inputs are drawn: qᵢ uniform in [lowerᵢ, upperᵢ]; q̇, q̈ and τ uniform in [−1, 1].
 struct InputRange {
   Eigen::VectorXd lower, upper;

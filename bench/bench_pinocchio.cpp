@@ -15,12 +15,15 @@
 #include "peers/pinocchio_peer.hpp"
 
 #include <spatial/derivatives.hpp>
+#include <spatial/minv.hpp>
 
 #include <pinocchio/algorithm/aba-derivatives.hpp>
 #include <pinocchio/algorithm/aba.hpp>
 #include <pinocchio/algorithm/center-of-mass.hpp>
 #include <pinocchio/algorithm/centroidal.hpp>
+#include <pinocchio/algorithm/frames-derivatives.hpp>
 #include <pinocchio/algorithm/frames.hpp>
+#include <pinocchio/algorithm/kinematics-derivatives.hpp>
 #include <pinocchio/algorithm/jacobian.hpp>
 #include <pinocchio/algorithm/cholesky.hpp>
 #include <pinocchio/algorithm/crba.hpp>
@@ -80,13 +83,17 @@ void check_derivatives(const Peer& peer, pinocchio::Data& pd, const PQ& q, const
                                    FloatingDerivativeData<double, typename ModelT::tree_type>>;
   using D = std::conditional_t<std::is_same_v<Peer, PinocchioPeer<double>>, Data<double, typename ModelT::tree_type>,
                                FloatingData<double, typename ModelT::tree_type>>;
+  using MinvT = std::conditional_t<std::is_same_v<Peer, PinocchioPeer<double>>,
+                                   MinvData<double, typename ModelT::tree_type>,
+                                   FloatingMinvData<double, typename ModelT::tree_type>>;
   D data(model);
   Deriv dd(model);
+  MinvT md(model);
   const std::string on = " (double) on " + name;
   PeerCheck rq{"Pinocchio computeRNEADerivatives dtau_dq" + on, 1e-12},
       rv{"Pinocchio computeRNEADerivatives dtau_dv" + on, 1e-12},
       aq{"Pinocchio computeABADerivatives ddq_dq" + on, 1e-10}, av{"Pinocchio computeABADerivatives ddq_dv" + on, 1e-10},
-      mi{"Pinocchio computeABADerivatives Minv" + on, 1e-10};
+      mi{"Pinocchio computeABADerivatives Minv" + on, 1e-10}, cm{"Pinocchio computeMinverse" + on, 1e-10};
   for (std::size_t s = 0; s < 32 && s < q.size(); ++s) {
     pinocchio::computeRNEADerivatives(pm, pd, q[s], v[s], u[s]);
     rnea_derivatives(model, data, dd, oq[s], ov[s], ou[s]);
@@ -99,8 +106,12 @@ void check_derivatives(const Peer& peer, pinocchio::Data& pd, const PQ& q, const
     Eigen::MatrixXd M = pd.Minv;
     M.triangularView<Eigen::StrictlyLower>() = M.transpose().triangularView<Eigen::StrictlyLower>();
     mi.compare(peer.from_pinocchio_matrix(M), dd.dqdd_dtau);
+    pinocchio::computeMinverse(pm, pd, q[s]);
+    M = pd.Minv;
+    M.triangularView<Eigen::StrictlyLower>() = M.transpose().triangularView<Eigen::StrictlyLower>();
+    cm.compare(peer.from_pinocchio_matrix(M), inverse_inertia(model, data, md, oq[s]));
   }
-  for (const PeerCheck* c : {&rq, &rv, &aq, &av, &mi}) c->report();
+  for (const PeerCheck* c : {&rq, &rv, &aq, &av, &mi, &cm}) c->report();
 }
 
 template <class S, class TreeT>
@@ -194,6 +205,10 @@ void register_pinocchio(const BenchModel<TreeT>& entry) {
       benchmark::DoNotOptimize(f.data.ddq_dq.data());
       benchmark::ClobberMemory();
     });
+    reg("Minv", [](Fx& f, std::size_t k) {
+      benchmark::DoNotOptimize(pinocchio::computeMinverse(f.peer.model, f.data, f.q[k]).data());
+      benchmark::ClobberMemory();
+    });
   }
   reg("FK", [](Fx& f, std::size_t k) {
     pinocchio::forwardKinematics(f.peer.model, f.data, f.q[k]);
@@ -242,7 +257,10 @@ void register_pinocchio_floating() {
       jac{"Pinocchio getFrameJacobian L_SOLE LOCAL/WORLD/LOCAL_WORLD_ALIGNED (double) on floating27", 1e-12},
       cjac{"Pinocchio computeFrameJacobian L_SOLE LOCAL/WORLD/LOCAL_WORLD_ALIGNED (double) on floating27", 1e-12},
       jcom{"Pinocchio jacobianCenterOfMass (double) on floating27", 1e-12},
-      ag{"Pinocchio ccrba A_G (double) on floating27", 1e-12};
+      ag{"Pinocchio ccrba A_G (double) on floating27", 1e-12},
+      fkd{"Pinocchio getFrameAccelerationDerivatives L_SOLE v/a partials LOCAL/WORLD/LOCAL_WORLD_ALIGNED (double) on "
+          "floating27", 1e-12};
+  FrameKinematicsDerivatives<double, 27> kd(model);
   const std::pair<pinocchio::ReferenceFrame, ReferenceFrame> frames[] = {
       {pinocchio::LOCAL, ReferenceFrame::Local},
       {pinocchio::WORLD, ReferenceFrame::World},
@@ -280,8 +298,22 @@ void register_pinocchio_floating() {
     jcom.compare(fx->peer.from_pinocchio_columns(pinocchio::jacobianCenterOfMass(pm, fx->data, fx->q[s])), Jc);
     centroidal_momentum_matrix(model, data, q, Ag);
     ag.compare(fx->peer.from_pinocchio_columns(pinocchio::ccrba(pm, fx->data, fx->q[s], fx->v[s])), Ag);
+    // Frame velocity and acceleration derivatives (the state's u as the acceleration).
+    pinocchio::computeForwardKinematicsDerivatives(pm, fx->data, fx->q[s], fx->v[s], fx->u[s]);
+    for (const auto& [prf, rf] : frames) {
+      Eigen::MatrixXd p[5];
+      for (auto& x : p) x = Eigen::MatrixXd::Zero(6, pm.nv);
+      pinocchio::getFrameAccelerationDerivatives(pm, fx->data, fx->frame, prf, p[0], p[1], p[2], p[3]);
+      pinocchio::getFrameVelocityDerivatives(pm, fx->data, fx->frame, prf, p[0], p[4]);
+      frame_kinematics_derivatives(model, data, kd, q, v, u, frame, rf);
+      fkd.compare(fx->peer.from_pinocchio_columns(p[0]), kd.v_dq);
+      fkd.compare(fx->peer.from_pinocchio_columns(p[4]), kd.v_dv);
+      fkd.compare(fx->peer.from_pinocchio_columns(p[1]), kd.a_dq);
+      fkd.compare(fx->peer.from_pinocchio_columns(p[2]), kd.a_dv);
+      fkd.compare(fx->peer.from_pinocchio_columns(p[3]), kd.a_da);
+    }
   }
-  for (const PeerCheck* c : {&tau, &mass, &fd, &jac, &cjac, &jcom, &ag}) c->report();
+  for (const PeerCheck* c : {&tau, &mass, &fd, &jac, &cjac, &jcom, &ag, &fkd}) c->report();
   check_derivatives(fx->peer, fx->data, fx->q, fx->v, fx->u, model, pool.q, pool.v, pool.u, "floating27");
 
   using Fx = FloatingPinFixture;
@@ -327,6 +359,10 @@ void register_pinocchio_floating() {
   reg("ABA_derivatives", [](Fx& f, std::size_t k) {
     pinocchio::computeABADerivatives(f.peer.tree.model, f.data, f.q[k], f.v[k], f.u[k]);
     benchmark::DoNotOptimize(f.data.ddq_dq.data());
+    benchmark::ClobberMemory();
+  });
+  reg("Minv", [](Fx& f, std::size_t k) {
+    benchmark::DoNotOptimize(pinocchio::computeMinverse(f.peer.tree.model, f.data, f.q[k]).data());
     benchmark::ClobberMemory();
   });
   reg("CentroidalMatrix", [](Fx& f, std::size_t k) {

@@ -148,7 +148,7 @@ const bool registered = [] {
   const ReducedModel<double> arms = keep_branches(whole, {"R_SFE", "L_SFE"}, held_pose());
   const InputPool<double> arms_pool = reduce_pool(pool, arms);
   register_whole_body("static", std::make_shared<SceneFixture<stance::Tree>>(whole, pool));
-  register_whole_body("runtime", std::make_shared<SceneFixture<DynamicTree>>(to_runtime(whole), pool));
+  register_whole_body("runtime", std::make_shared<SceneFixture<DynamicTree>>(whole.to_runtime(), pool));
   register_arms("static",
                 std::make_shared<SceneFixture<ArmsTree>>(Model<double, ArmsTree>::from(arms.model), arms_pool));
   register_arms("runtime", std::make_shared<SceneFixture<DynamicTree>>(arms.model, arms_pool));

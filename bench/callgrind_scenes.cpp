@@ -5,7 +5,7 @@
 #include <spatial/spatial.hpp>
 #include <spatial/models/hoap3_stance_right.hpp>
 
-#include "bench_models.hpp"  // to_runtime
+#include "bench_models.hpp"
 
 #include <cstdio>
 #include <cstdlib>
@@ -125,7 +125,7 @@ int main(int argc, char** argv) {
   const ReducedModel<double> arms = keep_branches(whole, {"R_SFE", "L_SFE"}, held);
   g_whole = new Fx<stance::Tree>(whole);
   g_arms = new Fx<ArmsTree>(Model<double, ArmsTree>::from(arms.model));
-  g_whole_rt = new Fx<DynamicTree>(spatial::bench::to_runtime(whole));
+  g_whole_rt = new Fx<DynamicTree>(whole.to_runtime());
   g_arms_rt = new Fx<DynamicTree>(arms.model);
   fill(*g_whole, q, qd, u, nullptr);
   fill(*g_whole_rt, q, qd, u, nullptr);

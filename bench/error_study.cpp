@@ -103,7 +103,7 @@ void study_scalar(const BenchModel<TreeT>& entry, const InputPool<double>& pool,
   // Run-time trees throughout: they run the same per-joint code as compile-time trees (README: "the same numbers"),
   // and unrolling every model in three scalar types would cost minutes of compile time. The run-time model is
   // built in double and then cast, exactly like `model.cast<long double>()` of the compile-time model.
-  const Model<double> runtime = to_runtime(entry.model);
+  const Model<double> runtime = entry.model.to_runtime();
   Evaluator<long double, DynamicTree> ref(runtime.template cast<long double>());
   Evaluator<S, DynamicTree> ev(runtime.template cast<S>());
   for (const char* algorithm : kAlgorithms) {
@@ -174,7 +174,7 @@ void study_simulation(const BenchModel<TreeT>& entry, std::vector<SimPoint>& out
   const double ref_dt = dts.back() / 4;
   const long ref_steps = std::lround(duration / ref_dt);
 
-  Simulator<long double, DynamicTree> reference(to_runtime(entry.model).template cast<long double>(),
+  Simulator<long double, DynamicTree> reference(entry.model.to_runtime().template cast<long double>(),
                                                 q0.template cast<long double>(), qd0.template cast<long double>());
   const double t_ref0 = thread_cpu_ns();
   const auto [q_ref, qd_ref] = reference.run(Integrator::RK4, duration, ref_steps);

@@ -16,18 +16,6 @@ using namespace spatial::testing::simd;
 constexpr ReferenceFrame kFrames[] = {ReferenceFrame::Local, ReferenceFrame::World,
                                       ReferenceFrame::LocalWorldAligned};
 
-/// The run-time twin of a compile-time model: same bodies, same frames (massless: their mass is already merged).
-template <class TreeT>
-Model<double> runtime_twin(const Model<double, TreeT>& m) {
-  ModelBuilder<double> b;
-  b.set_gravity(m.gravity());
-  for (int i = 0; i < m.size(); ++i)
-    b.add_body(m.body_name(i), m.parent(i), m.joint_type(i), m.tree_transform(i), m.inertia(i), m.axis(i),
-               m.joint_name(i));
-  for (const FixedFrame<double>& f : m.frames()) b.add_fixed_body(f.name, f.body, f.X, Inertia<double>::Zero());
-  return b.build();
-}
-
 template <class A, class B>
 double max_diff(const Eigen::MatrixBase<A>& a, const Eigen::MatrixBase<B>& b) {
   return (a - b).cwiseAbs().maxCoeff();
@@ -93,7 +81,7 @@ void compare_kinematics(const M& m, const R& r, DM& dm, DR& dr, const Q& q, int 
 template <class TreeT>
 void compare_fixed(const Model<double, TreeT>& m, unsigned seed) {
   static_assert(detail::simd_enabled<double, TreeT>());
-  const Model<double> r = runtime_twin(m);
+  const Model<double> r = m.to_runtime();
   Data<double, TreeT> dm(m);
   Data<double> dr(r);
   std::mt19937 rng(seed);
@@ -108,7 +96,7 @@ void compare_fixed(const Model<double, TreeT>& m, unsigned seed) {
 template <class TreeT>
 void compare_floating(const FloatingModel<double, TreeT>& m, unsigned seed) {
   static_assert(detail::simd_enabled<double, TreeT>());
-  const FloatingModel<double> r(runtime_twin(m.tree()), m.root_inertia(), m.root_name());
+  const FloatingModel<double> r = m.to_runtime();
   FloatingData<double, TreeT> dm(m);
   FloatingData<double> dr(r);
   std::mt19937 rng(seed);

@@ -81,6 +81,7 @@ FLOATING_TARGETS = [
 DERIVATIVE_TARGETS = [
     ("RNEA derivatives vs Pinocchio computeRNEADerivatives", "RNEA_derivatives", "pinocchio", "RNEA_derivatives", 0.4),
     ("ABA derivatives vs Pinocchio computeABADerivatives", "ABA_derivatives", "pinocchio", "ABA_derivatives", 0.4),
+    ("H⁻¹ vs Pinocchio computeMinverse", "Minv", "pinocchio", "Minv", 0.5),
 ]
 
 # Why a target can be missed on this kind of machine and what would close it (analysis in docs/performance.md);
@@ -95,7 +96,7 @@ MISS_NOTES = {
 
 ALGORITHMS = ["RNEA", "GravityTorques", "BiasForces", "CRBA", "FD_CRBA_LTDL", "FD_CRBA_DenseLLT", "ABA", "FK", "LTDL",
               "JointJacobians", "FrameJacobian", "ComputeFrameJacobian", "ComJacobian", "CentroidalMatrix",
-              "RNEA_derivatives", "ABA_derivatives", "RNEA_derivatives_fd"]
+              "RNEA_derivatives", "ABA_derivatives", "RNEA_derivatives_fd", "Minv"]
 ALGORITHM_TITLES = {
     "RNEA": "RNEA (inverse dynamics)",
     "GravityTorques": "gravity torques",
@@ -109,6 +110,7 @@ ALGORITHM_TITLES = {
     "RNEA_derivatives": "∂τ/∂q, ∂τ/∂q̇ (analytical)",
     "ABA_derivatives": "∂q̈/∂q, ∂q̈/∂q̇, ∂q̈/∂τ (analytical)",
     "RNEA_derivatives_fd": "∂τ/∂q, ∂τ/∂q̇ by forward differences (2n + 1 RNEA)",
+    "Minv": "H⁻¹ directly (ABA-based, no H)",
 }
 PEER_CALLS = {
     ("kdl", "RNEA"): "TreeIdSolver_RNE",
@@ -123,6 +125,7 @@ PEER_CALLS = {
     ("pinocchio", "FK"): "forwardKinematics",
     ("pinocchio", "RNEA_derivatives"): "computeRNEADerivatives",
     ("pinocchio", "ABA_derivatives"): "computeABADerivatives",
+    ("pinocchio", "Minv"): "computeMinverse",
 }
 GROWTH_RE = re.compile(r"^(chain|binary)(\d+)$")
 # Variants that compute the same result compete on one Pareto front: the three forward dynamics; every other
@@ -806,7 +809,8 @@ def write_report(out_dir, compilers, records, time_kind, charts_enabled=True, sc
     w("")
     w("Analytical derivatives of RNEA (∂τ/∂q, ∂τ/∂q̇) and of forward dynamics (∂q̈/∂q, ∂q̈/∂q̇, ∂q̈/∂τ; on floating27 in "
       "the tangent space), against Pinocchio's `computeRNEADerivatives` / `computeABADerivatives` (bench_pinocchio "
-      "checks all five matrices against ours before timing) and against our own forward differences of RNEA "
+      "checks all five matrices against ours before timing), H⁻¹ computed directly (`inverse_inertia`, against "
+      "`computeMinverse`, also checked first) and our own forward differences of RNEA "
       "(`RNEA_derivatives_fd`: the same two matrices from 2n + 1 RNEA calls).")
     w("")
     for model in (TARGET_MODEL, FLOATING_MODEL):
@@ -823,11 +827,13 @@ def write_report(out_dir, compilers, records, time_kind, charts_enabled=True, sc
             fd = find(records, compiler=c, model=model, algorithm="RNEA_derivatives_fd", scalar="double",
                       tree="static")
             rt = find(records, compiler=c, model=model, algorithm="RNEA_derivatives", scalar="double", tree="runtime")
+            mi = find(records, compiler=c, model=model, algorithm="Minv", scalar="double", tree="static")
             drows.append([model, c, fmt_ns(an["ns"]) if an else "–", fmt_ns(rt["ns"]) if rt else "–",
-                          fmt_ns(ab["ns"]) if ab else "–", fmt_ns(fd["ns"]) if fd else "–",
+                          fmt_ns(ab["ns"]) if ab else "–", fmt_ns(mi["ns"]) if mi else "–",
+                          fmt_ns(fd["ns"]) if fd else "–",
                           fmt_ratio(ratio(fd["ns"] if fd else None, an["ns"] if an else None))])
     w(md_table(["model", "compiler", "RNEA derivatives (ct)", "RNEA derivatives (rt)", "ABA derivatives (ct)",
-                "finite differences (ct)", "finite differences ÷ analytical"], drows))
+                "H⁻¹ (ct)", "finite differences (ct)", "finite differences ÷ analytical"], drows))
     w("")
 
     w("## Reference rows")

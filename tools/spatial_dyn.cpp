@@ -7,6 +7,7 @@
 //   spatial-dyn jacobian --urdf FILE [MODEL OPTIONS] --frame LINK [--reference local|world|local_world_aligned]
 //                        --in STATES.csv [--out OUT.csv] [--echo]
 //   spatial-dyn com  --urdf FILE [MODEL OPTIONS] --in STATES.csv [--out OUT.csv] [--echo]
+//   spatial-dyn derivatives id|fd --urdf FILE [MODEL OPTIONS] --in STATES.csv [--out OUT.csv] [--echo]
 //   spatial-dyn info --urdf FILE [MODEL OPTIONS]
 //   spatial-dyn scene NAME|all [--out DIR]      the reference study's experiments (tools/scenes.hpp)
 //   MODEL OPTIONS: --root LINK  --subtree LINK  --lock JOINT=ANGLE,...  --gravity gx,gy,gz  --gravity-frame root|urdf
@@ -18,7 +19,7 @@
 //    the URDF joint names, in any order; every later non-empty line is one sample. Plain comma-separated values:
 //    fields are trimmed, a header name in double quotes is unquoted, there is no other quoting. Blank lines are
 //    skipped.
-//  - id needs q, qd, qdd of every joint of the model; fd needs q, qd, tau; crba, jacobian and com need q. Columns of
+//  - id (and derivatives id) needs q, qd, qdd of every joint of the model; fd (and derivatives fd) needs q, qd, tau; crba, jacobian and com need q. Columns of
 //    the four kinds that the subcommand does not use are not read (but their joint names are checked).
 //  - A q:/qd:/qdd:/tau: column naming a joint that the URDF does not have is an error. Columns of URDF joints that
 //    the model does not move (fixed, --lock'ed, or outside the --subtree) are ignored, with a note on stderr: a
@@ -26,7 +27,8 @@
 //  - Columns with any other name (`time`, ...) are ignored, or copied to the output with --echo.
 //  - Output: a header and one line per sample, `tau:<joint>` (id), `qdd:<joint>` (fd), `H:<jointA>:<jointB>`
 //    row-major (crba), `J:<row>:<joint>` row-major with rows vx vy vz wx wy wz (jacobian), `com:x|y|z` then
-//    `Jcom:<x|y|z>:<joint>` (com); joints (velocity coordinates, the free-flyer's first) in model order
+//    `Jcom:<x|y|z>:<joint>` (com), `dtau_dq:<row>:<column>` then `dtau_dv:…` (derivatives id) or `dqdd_dq:…`,
+//    `dqdd_dv:…`, `dqdd_dtau:…` (derivatives fd), row-major, rows and columns named like the qd: columns; joints (velocity coordinates, the free-flyer's first) in model order
 //    (`spatial-dyn info`), numbers with up to 17 significant digits (the shortest text that reads back as the same
 //    double). --echo puts the input's columns first (except those that the output recomputes). --out - or no
 //    --out: stdout. Nothing is written unless every sample is good.
@@ -83,6 +85,7 @@ const char* kUsage =
     "       spatial-dyn jacobian --urdf FILE [MODEL OPTIONS] --frame LINK\n"
     "                        [--reference local_world_aligned|world|local] --in STATES.csv [--out OUT.csv] [--echo]\n"
     "       spatial-dyn com  --urdf FILE [MODEL OPTIONS] --in STATES.csv [--out OUT.csv] [--echo]\n"
+    "       spatial-dyn derivatives id|fd --urdf FILE [MODEL OPTIONS] --in STATES.csv [--out OUT.csv] [--echo]\n"
     "       spatial-dyn info --urdf FILE [MODEL OPTIONS]\n"
     "       spatial-dyn scene NAME|all [--out DIR]\n"
     "MODEL OPTIONS: --root LINK  --subtree LINK  --lock JOINT=ANGLE,...  --gravity gx,gy,gz  --gravity-frame root|urdf\n"
@@ -103,6 +106,12 @@ const char* kUsage =
     "  com   centre of mass and its Jacobian: q: -> com:x, com:y, com:z, Jcom:<x|y|z>:<joint> (row-major); with\n"
     "        --floating over every body in world coordinates, with a fixed base over the moving bodies in base\n"
     "        coordinates (the links merged into the base move nothing; info's com counts them)\n"
+    "  derivatives id  analytical derivatives of inverse dynamics: q:, qd:, qdd: -> dtau_dq:<row>:<column>, then\n"
+    "        dtau_dv:<row>:<column> (row-major; rows = tau's coordinates, columns = the velocity coordinates, named\n"
+    "        like the qd: columns; with --floating the free-flyer's q columns are in the tangent space, a body-frame\n"
+    "        twist of the root, Pinocchio's convention)\n"
+    "  derivatives fd  analytical derivatives of forward dynamics: q:, qd:, tau: -> dqdd_dq:<row>:<column>,\n"
+    "        dqdd_dv:<row>:<column>, dqdd_dtau:<row>:<column> (= the inverse of H)\n"
     "  info  joints in model order, limits, mass, centre of mass, massless joints, frames\n"
     "  scene the reference study's experiments on the HOAP-3 reference models (no URDF needed): torso_arms,\n"
     "        torso_strokes, circles, step, pendulum, or all; writes DIR/NAME.csv and DIR/NAME.json (default DIR:\n"
@@ -122,7 +131,7 @@ const char* kUsage =
     "then angular velocity, acceleration or wrench, in root coordinates; Pinocchio's free-flyer convention). Gravity\n"
     "is then in world coordinates.\n";
 
-enum class Command { Id, Fd, Crba, Jacobian, Com, Info };
+enum class Command { Id, Fd, Crba, Jacobian, Com, DerivativesId, DerivativesFd, Info };
 
 // ---------------------------------------------------------------------------------------------------------------
 // The model
@@ -383,6 +392,8 @@ std::string command_name(Command cmd) {
     case Command::Crba: return "crba";
     case Command::Jacobian: return "jacobian";
     case Command::Com: return "com";
+    case Command::DerivativesId: return "derivatives id";
+    case Command::DerivativesFd: return "derivatives fd";
     case Command::Info: break;
   }
   return "info";
@@ -412,7 +423,10 @@ int run_dynamics(Command cmd, const cli::Options& opts) {
     if (*m != "aba" && *m != "crba") throw UsageError("--method: expected 'aba' or 'crba', got '" + *m + "'");
     method = *m;
   }
-  if (cmd == Command::Fd) {
+  const bool derivatives = cmd == Command::DerivativesId || cmd == Command::DerivativesFd;
+  const bool inverse = cmd == Command::Id || cmd == Command::DerivativesId;
+  const bool forward = cmd == Command::Fd || cmd == Command::DerivativesFd;
+  if (forward) {
     try {
       uio::check_nonsingular(robot.loaded);
     } catch (const ModelError& e) {
@@ -430,9 +444,9 @@ int run_dynamics(Command cmd, const cli::Options& opts) {
 
   const Table table = read_table(opts.required("--in"));
   const Columns cols = map_columns(table, robot);
-  const std::vector<int> kinds = cmd == Command::Id ? std::vector<int>{0, 1, 2}
-                                 : cmd == Command::Fd ? std::vector<int>{0, 1, 3}
-                                                      : std::vector<int>{0};
+  const std::vector<int> kinds = inverse ? std::vector<int>{0, 1, 2}
+                                 : forward ? std::vector<int>{0, 1, 3}
+                                           : std::vector<int>{0};
   require(table, cols, robot, kinds, "spatial-dyn " + name);
   if (!cols.ignored_joints.empty()) {
     std::string list;
@@ -454,6 +468,14 @@ int run_dynamics(Command cmd, const cli::Options& opts) {
     for (const char* r : kComRows) out_names.push_back(std::string("com:") + r);
     for (const char* r : kComRows)
       for (int j = 0; j < nv; ++j) out_names.push_back(std::string("Jcom:") + r + ":" + robot.v_names[std::size_t(j)]);
+  } else if (derivatives) {
+    const std::vector<std::string> blocks = cmd == Command::DerivativesId
+                                                ? std::vector<std::string>{"dtau_dq", "dtau_dv"}
+                                                : std::vector<std::string>{"dqdd_dq", "dqdd_dv", "dqdd_dtau"};
+    for (const std::string& b : blocks)
+      for (int i = 0; i < nv; ++i)
+        for (int j = 0; j < nv; ++j)
+          out_names.push_back(b + ":" + robot.v_names[std::size_t(i)] + ":" + robot.v_names[std::size_t(j)]);
   } else {
     const std::string prefix = cmd == Command::Id ? "tau:" : "qdd:";
     for (int i = 0; i < nv; ++i) out_names.push_back(prefix + robot.v_names[std::size_t(i)]);
@@ -482,16 +504,19 @@ int run_dynamics(Command cmd, const cli::Options& opts) {
   const FloatingModel<double> fmodel =
       robot.floating ? uio::floating_model(robot.loaded) : FloatingModel<double>(model, Inertia<double>::Zero());
   FloatingData<double> fdata(fmodel);
+  // Derivative buffers (nv × nv matrices), sized only for the derivatives subcommands.
+  DerivativeData<double> dd(derivatives && !robot.floating ? model : Model<double>());
+  FloatingDerivativeData<double> fdd(derivatives && robot.floating ? fmodel : FloatingModel<double>());
   Eigen::VectorXd q(nq), qd(nv), x(nv);
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(nv);
   Eigen::MatrixXd J(cmd == Command::Com ? 3 : 6, nv);
   const auto& qc = cols.of[0];
   const auto& qdc = cols.of[1];
-  const auto& xc = cols.of[cmd == Command::Fd ? 3 : 2];
+  const auto& xc = cols.of[forward ? 3 : 2];
   for (const Line& row : table.rows) {
     check_width(table, row, cols);
     for (int i = 0; i < nq; ++i) q[i] = cell(table, row, cols, qc[static_cast<std::size_t>(i)]);
-    if (cmd == Command::Id || cmd == Command::Fd)
+    if (inverse || forward)
       for (int i = 0; i < nv; ++i) {
         const auto k = static_cast<std::size_t>(i);
         qd[i] = cell(table, row, cols, qdc[k]);
@@ -515,7 +540,27 @@ int run_dynamics(Command cmd, const cli::Options& opts) {
       out += cli::format_double(v);
       first = false;
     };
-    if (cmd == Command::Jacobian || cmd == Command::Com) {
+    if (derivatives) {
+      // Row-major blocks: ∂τ/∂q, ∂τ/∂v (id) or ∂q̈/∂q, ∂q̈/∂v, ∂q̈/∂τ (fd).
+      const auto put_block = [&](const Eigen::MatrixXd& M) {
+        for (int i = 0; i < nv; ++i)
+          for (int j = 0; j < nv; ++j) put(M(i, j));
+      };
+      const auto write = [&](auto& m, auto& d, auto& derivs) {
+        if (cmd == Command::DerivativesId) {
+          rnea_derivatives(m, d, derivs, q, qd, x);
+          put_block(derivs.dtau_dq);
+          put_block(derivs.dtau_dv);
+        } else {
+          aba_derivatives(m, d, derivs, q, qd, x);
+          put_block(derivs.dqdd_dq);
+          put_block(derivs.dqdd_dv);
+          put_block(derivs.dqdd_dtau);
+        }
+      };
+      if (robot.floating) write(fmodel, fdata, fdd);
+      else write(model, data, dd);
+    } else if (cmd == Command::Jacobian || cmd == Command::Com) {
       // J: linear rows first (vx vy vz wx wy wz), the velocity coordinates' columns; com: c then J_c.
       if (cmd == Command::Jacobian) {
         if (robot.floating) compute_frame_jacobian(fmodel, fdata, q, frame, reference, J);
@@ -678,7 +723,8 @@ int run_scenes(int argc, char** argv) {
 }
 
 int run(int argc, char** argv) {
-  if (argc < 2) throw UsageError("no subcommand (id, fd, crba, jacobian, com, info or scene; try --help)");
+  if (argc < 2)
+    throw UsageError("no subcommand (id, fd, crba, jacobian, com, derivatives, info or scene; try --help)");
   const std::string sub = argv[1];
   if (sub == "--help" || sub == "-h" || sub == "help") {
     std::cout << kUsage;
@@ -693,14 +739,28 @@ int run(int argc, char** argv) {
     return run_scenes(argc, argv);
   }
   Command cmd;
-  if (sub == "id") cmd = Command::Id;
+  int first_option = 2;
+  if (sub == "derivatives") {
+    const std::string what = argc > 2 ? argv[2] : "";
+    if (what == "--help" || what == "-h") {
+      std::cout << kUsage;
+      return 0;
+    }
+    if (what == "id") cmd = Command::DerivativesId;
+    else if (what == "fd") cmd = Command::DerivativesFd;
+    else if (what.empty()) throw UsageError("derivatives: say which dynamics to differentiate: 'derivatives id' or 'derivatives fd'");
+    else throw UsageError("derivatives: expected 'id' or 'fd' after 'derivatives', got '" + what + "'");
+    first_option = 3;
+  } else if (sub == "id") cmd = Command::Id;
   else if (sub == "fd") cmd = Command::Fd;
   else if (sub == "crba") cmd = Command::Crba;
   else if (sub == "jacobian") cmd = Command::Jacobian;
   else if (sub == "com") cmd = Command::Com;
   else if (sub == "info") cmd = Command::Info;
-  else throw UsageError("unknown subcommand '" + sub + "' (id, fd, crba, jacobian, com, info or scene; try --help)");
-  for (int i = 2; i < argc; ++i)
+  else
+    throw UsageError("unknown subcommand '" + sub +
+                     "' (id, fd, crba, jacobian, com, derivatives, info or scene; try --help)");
+  for (int i = first_option; i < argc; ++i)
     if (std::string(argv[i]) == "--help" || std::string(argv[i]) == "-h") {
       std::cout << kUsage;
       return 0;
@@ -713,7 +773,7 @@ int run(int argc, char** argv) {
   }
   if (cmd == Command::Jacobian)
     for (const char* s : {"--frame", "--reference"}) with_value.emplace_back(s);
-  const cli::Options opts(argc, argv, 2, with_value, flags);
+  const cli::Options opts(argc, argv, first_option, with_value, flags);
   if (cmd == Command::Info) return run_info(opts);
   opts.required("--urdf");
   if (cmd == Command::Jacobian) opts.required("--frame");

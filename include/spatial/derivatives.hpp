@@ -37,12 +37,20 @@
 ///
 /// Forward dynamics: q̈ = FD(q, v, τ) satisfies RNEA(q, v, q̈) = τ, so ∂q̈/∂x = −H⁻¹ ∂τ/∂x at (q, v, q̈) for
 /// x = q, v, and ∂q̈/∂τ = H⁻¹ (computed from CRBA and the tree-sparse LTDL factor).
+///
+/// **Kinematics.** `frame_kinematics_derivatives(model, data, out, q, v, a, frame, rf)` → the derivatives of a
+/// frame's spatial velocity and spatial acceleration (as `frame_velocity` / `frame_acceleration` return them, in
+/// the reference frame `rf`) with respect to q (tangent space), v and a; the derivative of the frame's placement
+/// itself is its Jacobian (`frame_jacobian`: column k of the Local Jacobian is the body twist of the frame for
+/// q ⊕ ε eₖ). See that function.
 
 #include "spatial/algorithms.hpp"
 #include "spatial/floating.hpp"
+#include "spatial/kinematics.hpp"
 
 #include <cstddef>
 #include <type_traits>
+#include <utility>
 
 namespace spatial {
 
@@ -480,6 +488,123 @@ void aba_derivatives(const FloatingModel<S, T>& model, FloatingData<S, T>& data,
   detail::rnea_derivatives_impl(model, data, dd, q, v, data.qdd, fext, frame, &data.H);
   ltdl(model, data);
   detail::aba_derivatives_solve(model, data, dd);
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Derivatives of frame velocities and accelerations
+// ---------------------------------------------------------------------------------------------------------------
+
+/// Output of `frame_kinematics_derivatives`: 6 × nv matrices, rows linear first like every Jacobian of
+/// kinematics.hpp (vx vy vz ωx ωy ωz), columns the velocity coordinates (floating base: free-flyer first).
+template <class S, int NV = Eigen::Dynamic>
+struct FrameKinematicsDerivatives {
+  using Matrix = Eigen::Matrix<S, 6, detail::matrix_dim(NV)>;
+  explicit FrameKinematicsDerivatives(int nv)
+      : v_dq(Matrix::Zero(6, nv)), v_dv(Matrix::Zero(6, nv)), a_dq(Matrix::Zero(6, nv)), a_dv(Matrix::Zero(6, nv)),
+        a_da(Matrix::Zero(6, nv)) {}
+  template <class M, class = decltype(std::declval<const M&>().nv())>
+  explicit FrameKinematicsDerivatives(const M& model) : FrameKinematicsDerivatives(model.nv()) {}
+  Matrix v_dq;  ///< ∂v_F/∂q (tangent space)
+  Matrix v_dv;  ///< ∂v_F/∂v = the frame Jacobian in rf
+  Matrix a_dq;  ///< ∂a_F/∂q (spatial acceleration)
+  Matrix a_dv;  ///< ∂a_F/∂v
+  Matrix a_da;  ///< ∂a_F/∂a = the frame Jacobian in rf
+};
+
+namespace detail {
+/// The columns of `frame_kinematics_derivatives` for the frame ᶠX_w = Xfw on `body`, after forward kinematics.
+template <class K, class Out>
+void frame_derivative_columns(const K& k, int body, const Transform<typename K::Scalar>& Xfw, ReferenceFrame rf,
+                              Out& out) {
+  using S = typename K::Scalar;
+  const auto world_of = [&](int i, const Motion<S>& m) { return k.world(i).apply_inverse(m); };
+  const Motion<S> v0 = world_of(body, k.velocity(body)), a0 = world_of(body, k.acceleration(body));
+  // The frame's velocity and acceleration in rf (LocalWorldAligned: for the turning of the axes).
+  const Motion<S> vf = world_to_frame(rf, Xfw, v0), af = world_to_frame(rf, Xfw, a0);
+  // One column from its world-coordinate derivatives (angular first); `dm_dq` = ∂(v⁰ or a⁰)/∂q, m = v⁰ or a⁰.
+  const auto put = [&](auto& M, int c, const Motion<S>& d, const Motion<S>& s, const Motion<S>* m,
+                       const Motion<S>* mf) {
+    Motion<S> x = d;
+    switch (rf) {
+      case ReferenceFrame::World: break;
+      case ReferenceFrame::Local: x = Xfw.apply(m ? d - cross(s, *m) : d); break;
+      case ReferenceFrame::LocalWorldAligned: {
+        // Local derivative rotated to world axes, plus the turning of those axes (ω_s × both parts).
+        x = local_to_frame(rf, Xfw, Xfw.apply(m ? d - cross(s, *m) : d));
+        if (m) {
+          x.w = add3(x.w, cross3(s.w, mf->w));
+          x.v = add3(x.v, cross3(s.w, mf->v));
+        }
+        break;
+      }
+    }
+    set_jacobian_column(M, c, x);
+  };
+  for (int j = body; j >= 0; j = k.tree.parent(j)) {
+    const int p = k.tree.parent(j);
+    const Motion<S> s = world_of(j, k.tree.joint(j).motion(S(1)));
+    Motion<S> vp = Motion<S>::Zero(), ap = Motion<S>::Zero();
+    if (p >= 0 || K::root_cols > 0) {
+      vp = world_of(p, k.velocity(p));
+      ap = world_of(p, k.acceleration(p));
+    }
+    const Motion<S> beta = cross(s, vp);
+    const int c = K::root_cols + j;
+    put(out.v_dq, c, cross(s, v0 - vp), s, &v0, &vf);
+    put(out.v_dv, c, s, s, nullptr, nullptr);
+    put(out.a_dq, c, cross(s, a0 - ap) + cross(v0 - vp, beta), s, &a0, &af);
+    put(out.a_dv, c, cross(s, v0) - beta - beta, s, nullptr, nullptr);
+    put(out.a_da, c, s, s, nullptr, nullptr);
+  }
+  if constexpr (K::root_cols > 0) {
+    // The free-flyer: q ⊕ δ moves everything rigidly (∂m/∂q_b = S_b × m); its acceleration is v̇ itself, so
+    // ∂a/∂v_b = S_b × (v⁰ − v⁰_root).
+    const Motion<S> vr = world_of(-1, k.velocity(-1));
+    for (int b = 0; b < 6; ++b) {
+      const Motion<S> s = k.world(-1).apply_inverse(free_flyer_basis<S>(b));
+      put(out.v_dq, b, cross(s, v0), s, &v0, &vf);
+      put(out.v_dv, b, s, s, nullptr, nullptr);
+      put(out.a_dq, b, cross(s, a0), s, &a0, &af);
+      put(out.a_dv, b, cross(s, v0 - vr), s, nullptr, nullptr);
+      put(out.a_da, b, s, s, nullptr, nullptr);
+    }
+  }
+}
+}  // namespace detail
+
+/// Derivatives of frame `frame`'s spatial velocity and spatial acceleration (no gravity), in the reference frame
+/// `rf` (as `frame_velocity` / `frame_acceleration` after `forward_kinematics(q, v, a)`), with respect to q (in the
+/// tangent space: column k is d/dε at q ⊕ ε eₖ), v and a, into `out` (6 × nv each, rows linear first; columns of
+/// joints that do not move the frame are zero). Runs `forward_kinematics(q, v, a)` (data as it leaves it).
+/// In world coordinates, for a joint j moving the frame's body (S = S⁰ⱼ, parent velocity/acceleration v_p, a_p,
+/// β = S × v_p):  ∂v/∂qⱼ = S × (v − v_p),  ∂a/∂qⱼ = S × (a − a_p) + (v − v_p) × β,  ∂a/∂vⱼ = S × v − 2β,
+/// ∂v/∂vⱼ = ∂a/∂aⱼ = S. Local: ∂(ᶠX_w m)/∂qⱼ = ᶠX_w (∂m/∂qⱼ − S × m); LocalWorldAligned: the Local derivative
+/// rotated to world axes plus ω_S × (both parts of the frame's vector). Pinocchio's `getFrameVelocityDerivatives`
+/// and `getFrameAccelerationDerivatives` compute the same matrices (v_partial_dq, a_partial_dq, …) in its LOCAL,
+/// WORLD and LOCAL_WORLD_ALIGNED. No allocation.
+template <class S, class T, int NV, class Q, class V, class A>
+void frame_kinematics_derivatives(const Model<S, T>& model, Data<S, T>& data, FrameKinematicsDerivatives<S, NV>& out,
+                                  const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<V>& v,
+                                  const Eigen::MatrixBase<A>& a, int frame, ReferenceFrame rf) {
+  forward_kinematics(model, data, q, v, a);
+  const auto k = detail::kin(model, data);
+  out.v_dq.setZero(), out.v_dv.setZero(), out.a_dq.setZero(), out.a_dv.setZero(), out.a_da.setZero();
+  int body;
+  const Transform<S> Xfw = detail::frame_world(k, frame, body);
+  detail::frame_derivative_columns(k, body, Xfw, rf, out);
+}
+/// The floating-base version (nv columns, free-flyer first; its q columns in the tangent space).
+template <class S, class T, int NV, class Q, class V, class A>
+void frame_kinematics_derivatives(const FloatingModel<S, T>& model, FloatingData<S, T>& data,
+                                  FrameKinematicsDerivatives<S, NV>& out, const Eigen::MatrixBase<Q>& q,
+                                  const Eigen::MatrixBase<V>& v, const Eigen::MatrixBase<A>& a, int frame,
+                                  ReferenceFrame rf) {
+  forward_kinematics(model, data, q, v, a);
+  const auto k = detail::kin(model, data);
+  out.v_dq.setZero(), out.v_dv.setZero(), out.a_dq.setZero(), out.a_dv.setZero(), out.a_da.setZero();
+  int body;
+  const Transform<S> Xfw = detail::frame_world(k, frame, body);
+  detail::frame_derivative_columns(k, body, Xfw, rf, out);
 }
 
 }  // namespace spatial

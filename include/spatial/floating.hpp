@@ -76,6 +76,10 @@ class FloatingModel {
   const TreeModel& tree() const { return tree_; }
   const Inertia<S>& root_inertia() const { return I0_; }
   const std::string& root_name() const { return root_name_; }
+  /// The same model over a run-time tree (see `Model::to_runtime`).
+  FloatingModel<S, DynamicTree> to_runtime() const {
+    return FloatingModel<S, DynamicTree>(tree_.to_runtime(), I0_, root_name_);
+  }
   /// Gravity in world coordinates.
   const Vector3<S>& gravity() const { return tree_.gravity(); }
   /// Joints of the tree (without the free-flyer).

@@ -207,6 +207,27 @@ class Model {
     return m;
   }
 
+  /// The same model as a run-time tree (`Model<S>`): the same numbers, names, frames and base mass, so every
+  /// algorithm gives the same results through the run-time code paths (tests, benchmarks, run-time-only tools).
+  Model<S, DynamicTree> to_runtime() const {
+    Model<S, DynamicTree> out;
+    out.resize_(size());
+    for (int i = 0; i < size(); ++i) {
+      const auto k = static_cast<std::size_t>(i);
+      out.Xtree_[k] = Xtree_[k];
+      out.I_[k] = I_[k];
+      out.axis_[k] = axis_[k];
+      out.parent_[k] = parent(i);
+      out.type_[k] = joint_type(i);
+    }
+    out.g_ = g_;
+    out.body_names_ = body_names_;
+    out.joint_names_ = joint_names_;
+    out.frames_ = frames_;
+    out.base_mass_ = base_mass_;
+    return out;
+  }
+
   /// The same model in another scalar type (e.g. long double as an accuracy reference).
   template <class T>
   Model<T, TreeT> cast() const {

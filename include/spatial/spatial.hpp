@@ -17,4 +17,5 @@
 #include "spatial/kinematics.hpp"
 #include "spatial/ik.hpp"
 #include "spatial/derivatives.hpp"
+#include "spatial/minv.hpp"
 #include "spatial/io.hpp"

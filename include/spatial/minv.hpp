@@ -1,0 +1,232 @@
+#pragma once
+/// \file minv.hpp
+/// The inverse of the joint-space inertia matrix, H⁻¹(q), computed directly (without forming H and inverting it),
+/// for fixed- and floating-base trees, compile-time and run-time, any scalar type:
+///
+///   inverse_inertia(model, data, md, q)  → md.Minv (n × n, or nv × nv on a floating base; both triangles filled)
+///
+/// **The algorithm.** Column j of H⁻¹ is the joint acceleration that a unit torque at joint j produces at rest
+/// without gravity: forward dynamics by ABA with τ = eⱼ, run for all columns at once (the idea of Carpentier &
+/// Mansard, RSS 2018; the formulation and the code are this library's). Everything is expressed in one frame, the
+/// base frame (root coordinates on a floating base), so that columns never need transforming:
+///   pass 1 (leaves to root): Iᴬᵢ = Iᵢ + Σ children (Iᴬ_c − U_c U_cᵀ / D_c),  Uᵢ = Iᴬᵢ Sᵢ,  Dᵢ = Sᵢᵀ Uᵢ;
+///   pass 2 (per column j, up its ancestor chain): the force that the unit torque passes on, f = Uⱼ / Dⱼ, and at
+///     each ancestor a:  H⁻¹(a, j) = −Sₐᵀ f / Dₐ,  f ← f + Uₐ H⁻¹(a, j)   (ABA's pass 2 for τ = eⱼ; a 6-vector in
+///     registers, no 6 × n block);  H⁻¹(j, j) = 1 / Dⱼ;
+///   pass 3 (root to leaves, rows i, columns j > i): H⁻¹(i, j) −= Uᵢᵀ A_λ(i)(:, j) / Dᵢ and
+///     Aᵢ(:, j) = A_λ(i)(:, j) + Sᵢ H⁻¹(i, j), Aᵢ being body i's accelerations for the unit torques (ABA's pass 3).
+/// Only the upper triangle (j ≥ i) is computed; the lower one is copied from it, so H⁻¹ is exactly symmetric.
+/// Pass 1 is O(n), pass 2 O(n·depth), pass 3 O(n²) (H⁻¹ of a tree is dense within each branch of the base).
+///
+/// On a floating base the free-flyer is a 6-DoF joint with S = 1 at the root: D₀ = Iᴬ₀ (6 × 6, inverted by its
+/// Cholesky factor), its rows H⁻¹(0…5, j) = −D₀⁻¹ f, and A₀ = H⁻¹(0…5, :). Rows and columns are ordered as v
+/// (free-flyer linear first, then angular, both in root coordinates, then the joints), as Pinocchio's
+/// `computeMinverse` on a free-flyer model: the matrices compare entry by entry.
+
+#include "spatial/algorithms.hpp"
+#include "spatial/floating.hpp"
+
+#include <cstddef>
+
+namespace spatial {
+
+namespace detail {
+/// Buffers of `inverse_inertia`, allocated once here: the N × N result and per-body scratch (base coordinates).
+template <class S, class T, int N>
+struct MinvBuffers {
+  using ModelType = Model<S, T>;
+  template <class X>
+  using Array = typename ModelType::template Array<X>;
+  using Matrix = Eigen::Matrix<S, matrix_dim(N), matrix_dim(N)>;
+  /// Accelerations of one body for every unit torque: rows angular then linear (as Motion), one column per joint.
+  using Block = Eigen::Matrix<S, 6, matrix_dim(N)>;
+
+  MinvBuffers(const ModelType& tree, int n) : Minv(Matrix::Zero(n, n)) {
+    if constexpr (!ModelType::is_static) {
+      const auto k = static_cast<std::size_t>(tree.size());
+      S0.resize(k);
+      IA.resize(k);
+      U.resize(k);
+      Dinv.resize(k);
+      A.resize(k);
+    }
+    for (auto& a : A) a = Block::Zero(6, n);
+  }
+
+  Matrix Minv;                     ///< H⁻¹ (result)
+  Array<Motion<S>> S0{};           ///< joint axes in base coordinates
+  Array<ArticulatedInertia<S>> IA{};  ///< articulated-body inertias in base coordinates
+  Array<Force<S>> U{};             ///< Uᵢ = Iᴬᵢ Sᵢ
+  Array<S> Dinv{};                 ///< 1 / Dᵢ
+  Array<Block> A{};                ///< pass 3: body accelerations for the unit torques (columns ≥ the body's own)
+};
+
+template <class S>
+SPATIAL_INLINE Eigen::Matrix<S, 1, 6> force_row(const Force<S>& f) {
+  Eigen::Matrix<S, 1, 6> r;
+  r << f.n.transpose(), f.f.transpose();
+  return r;
+}
+template <class S>
+SPATIAL_INLINE Vector6<S> motion_col(const Motion<S>& m) {
+  Vector6<S> c;
+  c << m.w, m.v;
+  return c;
+}
+
+/// Pass 1 of the tree (leaves to root): S, Iᴬ, U, 1/D in base coordinates. X_base of `data` must be up to date.
+/// `root_IA`, if not null, receives what the root bodies pass to a free-flying root.
+template <class S, class T, class Buffers>
+void minv_articulated(const Model<S, T>& model, const Data<S, T>& data, Buffers& md,
+                      ArticulatedInertia<S>* root_IA) {
+  for_each_body(model, [&](auto I) {
+    const auto k = static_cast<std::size_t>(int(I));
+    const Transform<S>& X0 = data.X_base[k];
+    md.S0[k] = model.joint(I).subspace_inverse(X0);
+    md.IA[k] = ArticulatedInertia<S>(model.inertia(int(I)).transformed_inverse(X0));
+  });
+  for_each_body_reverse(model, [&](auto I) {
+    const auto k = static_cast<std::size_t>(int(I));
+    const int p = model.parent(I);
+    md.U[k] = md.IA[k] * md.S0[k];
+    md.Dinv[k] = S(1) / dot(md.S0[k], md.U[k]);
+    if (p >= 0 || root_IA) {
+      ArticulatedInertia<S> Ia = md.IA[k];
+      Ia.subtract_outer(md.U[k], md.Dinv[k]);
+      if (p >= 0) md.IA[static_cast<std::size_t>(p)] += Ia;
+      else *root_IA += Ia;
+    }
+  });
+}
+
+/// Pass 2 of the tree: the columns `off + j` of the rows of j and its ancestors (upper triangle). Returns nothing;
+/// `root_force(j, f)` receives the force each column passes to a free-flying root (unused on a fixed base).
+template <class S, class T, class Buffers, class RootForce>
+void minv_columns(const Model<S, T>& model, Buffers& md, int off, RootForce&& root_force) {
+  auto& M = md.Minv;
+  for_each_body(model, [&](auto J) {
+    const int j = J;
+    const auto jk = static_cast<std::size_t>(j);
+    const S dj = md.Dinv[jk];
+    M(off + j, off + j) = dj;
+    Force<S> f = md.U[jk] * dj;
+    walk_up(model, J, [&](auto, auto A) {
+      const auto ak = static_cast<std::size_t>(int(A));
+      const S m = -md.Dinv[ak] * dot(md.S0[ak], f);
+      M(off + int(A), off + j) = m;
+      f += md.U[ak] * m;
+    });
+    root_force(j, f);
+  });
+}
+
+/// Pass 3 of the tree: rows `off + i`, columns c ≥ off + i + 1 (and, with a free-flying root, A of the root in
+/// `A_root`, whose columns ≥ off are used).
+template <class S, class T, class Buffers, class RootBlock>
+void minv_rows(const Model<S, T>& model, Buffers& md, int off, const RootBlock* A_root) {
+  auto& M = md.Minv;
+  const int nv = static_cast<int>(M.cols());
+  for_each_body(model, [&](auto I) {
+    const int i = I;
+    const auto k = static_cast<std::size_t>(i);
+    const int p = model.parent(I);
+    const int r = off + i;
+    const int m = nv - r;  // columns r … nv − 1
+    auto& Ai = md.A[k];
+    const Vector6<S> s = motion_col(md.S0[k]);
+    if (p >= 0 || A_root) {
+      const auto& Ap = p >= 0 ? md.A[static_cast<std::size_t>(p)] : *A_root;
+      const Eigen::Matrix<S, 1, 6> u = force_row(md.U[k]) * md.Dinv[k];
+      M.row(r).tail(m).noalias() -= u * Ap.rightCols(m);
+      Ai.rightCols(m) = Ap.rightCols(m);
+      Ai.rightCols(m).noalias() += s * M.row(r).tail(m);
+    } else {
+      Ai.rightCols(m).noalias() = s * M.row(r).tail(m);
+    }
+  });
+}
+
+/// Lower triangle ← upper triangle.
+template <class Matrix>
+void minv_symmetrize(Matrix& M) {
+  const auto n = M.rows();
+  for (Eigen::Index j = 0; j < n; ++j)
+    for (Eigen::Index i = j + 1; i < n; ++i) M(i, j) = M(j, i);
+}
+}  // namespace detail
+
+/// Buffers and result (`Minv`, n × n) of the fixed-base `inverse_inertia`, allocated once here.
+template <class S, class T = DynamicTree>
+struct MinvData : detail::MinvBuffers<S, T, Model<S, T>::NB> {
+  using ModelType = Model<S, T>;
+  explicit MinvData(const ModelType& model) : detail::MinvBuffers<S, T, ModelType::NB>(model, model.size()) {}
+};
+
+/// Buffers and result (`Minv`, nv × nv, ordered as v) of the floating-base `inverse_inertia`.
+template <class S, class T = DynamicTree>
+struct FloatingMinvData : detail::MinvBuffers<S, T, FloatingModel<S, T>::NV> {
+  using ModelType = FloatingModel<S, T>;
+  using Base = detail::MinvBuffers<S, T, ModelType::NV>;
+  explicit FloatingMinvData(const ModelType& model) : Base(model.tree(), model.nv()), A0(Base::Block::Zero(6, model.nv())) {}
+  typename Base::Block A0;  ///< the root's accelerations for the unit torques
+};
+
+/// H⁻¹(q) into `md.Minv` (n × n, symmetric, both triangles written on every call) without forming H; see the file
+/// comment. Uses `data` for the transforms (`data.X_base` is left as `forward_kinematics` leaves it). No
+/// allocation; a joint whose subtree has no inertia gives non-finite entries (H is singular). Returns `md.Minv`.
+template <class S, class T, class Q>
+const typename MinvData<S, T>::Matrix& inverse_inertia(const Model<S, T>& model, Data<S, T>& data,
+                                                       MinvData<S, T>& md, const Eigen::MatrixBase<Q>& q) {
+  detail::check_sizes(model, "inverse_inertia", "q", q);
+  detail::joint_sincos(model, data, q);
+  for_each_body(model, [&](auto I) { detail::update_transform<true>(model, data, I, q); });
+  // Entries (i, j), j > i, where i is not an ancestor of j get no pass-2 term: start them from zero.
+  md.Minv.template triangularView<Eigen::StrictlyUpper>().setZero();
+  detail::minv_articulated(model, data, md, static_cast<ArticulatedInertia<S>*>(nullptr));
+  detail::minv_columns(model, md, 0, [](int, const Force<S>&) {});
+  detail::minv_rows(model, md, 0, static_cast<const typename MinvData<S, T>::Block*>(nullptr));
+  detail::minv_symmetrize(md.Minv);
+  return md.Minv;
+}
+
+/// The floating-base version: nv × nv, rows and columns ordered as v (see the file comment).
+template <class S, class T, class Q>
+const typename FloatingMinvData<S, T>::Matrix& inverse_inertia(const FloatingModel<S, T>& model,
+                                                               FloatingData<S, T>& data, FloatingMinvData<S, T>& md,
+                                                               const Eigen::MatrixBase<Q>& q) {
+  detail::check_q(model, q, "inverse_inertia");
+  const auto& tree = model.tree();
+  auto& td = data.tree;
+  const auto qj = detail::joint_block<FloatingModel<S, T>::NJ>(q, 7, model.njoints());
+  data.X0 = detail::root_transform<S>(q);
+  detail::joint_sincos(tree, td, qj);
+  for_each_body(tree, [&](auto I) { detail::update_transform<true>(tree, td, I, qj); });
+  auto& M = md.Minv;
+  M.template triangularView<Eigen::StrictlyUpper>().setZero();
+  // Pass 1, and the root's articulated inertia D₀ = Iᴬ₀ (angular first), inverted through its Cholesky factor.
+  ArticulatedInertia<S> IA0(model.root_inertia());
+  detail::minv_articulated(tree, td, md, &IA0);
+  Matrix6<S> D0;
+  D0 << IA0.A, IA0.B, IA0.B.transpose(), IA0.C;
+  const Eigen::LLT<Matrix6<S>> llt(D0);
+  const Matrix6<S> D0inv = llt.solve(Matrix6<S>::Identity());
+  // v's order is linear first: tangent index c ↔ motion row (c + 3) % 6.
+  for (int r = 0; r < 6; ++r)
+    for (int c = r; c < 6; ++c) M(r, c) = D0inv((r + 3) % 6, (c + 3) % 6);
+  // Pass 2: tree columns, then the root's rows for them, −D₀⁻¹ f.
+  detail::minv_columns(tree, md, 6, [&](int j, const Force<S>& f) {
+    Vector6<S> fx;
+    fx << f.n, f.f;
+    const Vector6<S> x = -(D0inv * fx);
+    for (int r = 0; r < 6; ++r) M(r, 6 + j) = x((r + 3) % 6);
+  });
+  // Pass 3: the root's accelerations are its rows (upper triangle) — complete its 6 × 6 block first.
+  for (int r = 0; r < 6; ++r)
+    for (int c = 0; c < r; ++c) M(r, c) = M(c, r);
+  for (int r = 0; r < 6; ++r) md.A0.row(r) = M.row((r + 3) % 6);
+  detail::minv_rows(tree, md, 6, &md.A0);
+  detail::minv_symmetrize(M);
+  return M;
+}
+
+}  // namespace spatial
