@@ -9,7 +9,9 @@
 #      writing JSON to build/report/raw/<compiler>/.
 #   4. The reference study's scenes: `spatial-dyn scene all` (first compiler's build) into build/report/scenes/,
 #      plotted by tools/plot_scenes.py (skipped without matplotlib).
-#   5. tools/report.py: build/report/report.md, summary.json and the PNG charts; prints the headline table.
+#   5. The iLQR example of the derivatives (`spatial-ilqr`, first compiler's build) into build/report/ilqr/, plotted
+#      by tools/plot_ilqr.py (skipped without matplotlib).
+#   6. tools/report.py: build/report/report.md, summary.json and the PNG charts; prints the headline table.
 #
 # Extra arguments are passed to every benchmark binary, e.g.  scripts/main.sh --benchmark_filter=stance21
 # Environment: JOBS (build parallelism, default 2), REPETITIONS (default 5), MIN_TIME (seconds per repetition,
@@ -53,7 +55,7 @@ for compiler in $compilers; do
   cmake --preset "$preset" >"$raw_dir/configure-$compiler.log" 2>&1 || { cat "$raw_dir/configure-$compiler.log"; exit 1; }
   grep -E "spatial:" "$raw_dir/configure-$compiler.log" || true
   targets=(spatial_benchmarks)
-  [[ "$compiler" == "$first_compiler" ]] && targets+=(spatial-dyn)
+  [[ "$compiler" == "$first_compiler" ]] && targets+=(spatial-dyn spatial-ilqr)
   cmake --build --preset "$preset" --target "${targets[@]}" --parallel "$jobs" >"$raw_dir/build-$compiler.log" 2>&1 &
   build_pids+=("$!:$compiler")
 done
@@ -110,6 +112,11 @@ cmake --build "$scene_build" --target spatial-dyn --parallel "$jobs"
 rm -rf "$report_dir/scenes"
 "$scene_build/bin/spatial-dyn" scene all --out "$report_dir/scenes"
 "$python" tools/plot_scenes.py "$report_dir/scenes"
+
+stage "iLQR example (spatial-ilqr, $scene_build)"
+rm -rf "$report_dir/ilqr"
+"$scene_build/bin/spatial-ilqr" --out "$report_dir/ilqr"
+"$python" tools/plot_ilqr.py "$report_dir/ilqr"
 
 stage "report"
 "$python" tools/report.py --input "$raw_dir" --output "$report_dir"
