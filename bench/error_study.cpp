@@ -6,7 +6,9 @@
 //    down, and the inputs are the double pool cast down, so the error includes the rounding of parameters and
 //    inputs, as a user of that scalar type gets it. Error = max over states of ‖y − y_ref‖∞ / ‖y_ref‖∞ (y: τ, H, q̈,
 //    or every body's pose [E r] for forward kinematics). This covers float vs double and ABA vs CRBA + tree LTDL vs
-//    CRBA + dense Cholesky (Eigen LLT).
+//    CRBA + dense Cholesky (Eigen LLT). The derivatives of RNEA (y = [∂τ/∂q ∂τ/∂q̇]) analytically
+//    (RNEA_derivatives), by forward differences (RNEA_derivatives_fd, step √ε) and by central differences
+//    (RNEA_derivatives_central, step ∛ε), all against the analytical derivatives in long double.
 // 2. Simulation: integrators (semi-implicit Euler, explicit midpoint RK2, classic RK4) at several step sizes on the
 //    21-body model over 1 s of simulated time, from a random state, with τ = −D q̇ (light joint damping) and forward
 //    dynamics by ABA in double. Error = max |q(1 s) − q_ref(1 s)| against RK4 in long double with a step 4× finer than
@@ -17,6 +19,7 @@
 //    double, with the time per call of each (bench/error_study_scenes.hpp). Needs the URDF loader: without it
 //    (SPATIAL_ERROR_STUDY_SCENES undefined) it is recorded as pending in the JSON.
 #include "bench_models.hpp"
+#include "fd_derivatives.hpp"
 #include "support/integrators.hpp"
 #ifdef SPATIAL_ERROR_STUDY_SCENES
 #include "error_study_scenes.hpp"
@@ -75,7 +78,8 @@ struct Evaluator {
   Model<S, TreeT> model;
   Data<S, TreeT> data;
   Eigen::LLT<typename Data<S, TreeT>::MatrixN> llt;
-  explicit Evaluator(const Model<S, TreeT>& m) : model(m), data(model), llt(m.size()) {}
+  DerivativeData<S, TreeT> dd;
+  explicit Evaluator(const Model<S, TreeT>& m) : model(m), data(model), llt(m.size()), dd(model) {}
 
   template <class V>
   Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic> run(const std::string& algorithm, const V& q, const V& qd,
@@ -88,13 +92,26 @@ struct Evaluator {
     if (algorithm == "FD_CRBA_LTDL") return M(forward_dynamics_crba(model, data, q, qd, u));
     if (algorithm == "FD_CRBA_DenseLLT") return M(forward_dynamics_dense(model, data, llt, q, qd, u));
     if (algorithm == "ABA") return M(aba(model, data, q, qd, u));
+    if (algorithm.rfind("RNEA_derivatives", 0) == 0) {
+      if (algorithm == "RNEA_derivatives") rnea_derivatives(model, data, dd, q, qd, u);
+      else if (algorithm == "RNEA_derivatives_fd")
+        rnea_derivatives_fd(model, data, q, qd, u, dd.dtau_dq, dd.dtau_dv, forward_difference_step<S>());
+      else rnea_derivatives_central(model, data, q, qd, u, dd.dtau_dq, dd.dtau_dv, central_difference_step<S>());
+      M y(model.size(), 2 * model.size());
+      y << dd.dtau_dq, dd.dtau_dv;
+      return y;
+    }
     forward_kinematics(model, data, q);
     return M(poses(model, data));
   }
 };
 
-const char* const kAlgorithms[] = {"RNEA", "GravityTorques", "BiasForces", "CRBA",
-                                   "FD_CRBA_LTDL", "FD_CRBA_DenseLLT", "ABA", "FK"};
+const char* const kAlgorithms[] = {"RNEA", "GravityTorques", "BiasForces", "CRBA", "FD_CRBA_LTDL", "FD_CRBA_DenseLLT",
+                                   "ABA", "FK", "RNEA_derivatives", "RNEA_derivatives_fd", "RNEA_derivatives_central"};
+/// The long-double reference of an algorithm: itself, except the finite differences (the analytical derivatives).
+std::string reference_of(const std::string& algorithm) {
+  return algorithm.rfind("RNEA_derivatives", 0) == 0 ? "RNEA_derivatives" : algorithm;
+}
 
 template <class S, class TreeT>
 void study_scalar(const BenchModel<TreeT>& entry, const InputPool<double>& pool, std::vector<Point>& out) {
@@ -112,7 +129,7 @@ void study_scalar(const BenchModel<TreeT>& entry, const InputPool<double>& pool,
       const auto s = static_cast<std::size_t>(k);
       const Vd ql = pool.q[s].cast<long double>(), qdl = pool.qd[s].cast<long double>(), ul = pool.u[s].cast<long double>();
       const Vs qs = pool.q[s].cast<S>(), qds = pool.qd[s].cast<S>(), us = pool.u[s].cast<S>();
-      const auto y_ref = ref.run(algorithm, ql, qdl, ul);
+      const auto y_ref = ref.run(reference_of(algorithm), ql, qdl, ul);
       const auto y = ev.run(algorithm, qs, qds, us);
       errors.push_back(static_cast<double>(rel_error(y, y_ref)));
     }

@@ -96,7 +96,8 @@ MISS_NOTES = {
 
 ALGORITHMS = ["RNEA", "GravityTorques", "BiasForces", "CRBA", "FD_CRBA_LTDL", "FD_CRBA_DenseLLT", "ABA", "FK", "LTDL",
               "JointJacobians", "FrameJacobian", "ComputeFrameJacobian", "ComJacobian", "CentroidalMatrix",
-              "RNEA_derivatives", "ABA_derivatives", "RNEA_derivatives_fd", "Minv"]
+              "RNEA_derivatives", "ABA_derivatives", "RNEA_derivatives_fd", "Minv", "RNEA_derivatives_central",
+              "RNEA_derivatives_ad"]
 ALGORITHM_TITLES = {
     "RNEA": "RNEA (inverse dynamics)",
     "GravityTorques": "gravity torques",
@@ -110,6 +111,8 @@ ALGORITHM_TITLES = {
     "RNEA_derivatives": "∂τ/∂q, ∂τ/∂q̇ (analytical)",
     "ABA_derivatives": "∂q̈/∂q, ∂q̈/∂q̇, ∂q̈/∂τ (analytical)",
     "RNEA_derivatives_fd": "∂τ/∂q, ∂τ/∂q̇ by forward differences (2n + 1 RNEA)",
+    "RNEA_derivatives_central": "∂τ/∂q, ∂τ/∂q̇ by central differences (4n RNEA)",
+    "RNEA_derivatives_ad": "∂τ/∂q, ∂τ/∂q̇ by forward-mode automatic differentiation",
     "Minv": "H⁻¹ directly (ABA-based, no H)",
 }
 PEER_CALLS = {
@@ -128,13 +131,19 @@ PEER_CALLS = {
     ("pinocchio", "Minv"): "computeMinverse",
 }
 GROWTH_RE = re.compile(r"^(chain|binary)(\d+)$")
-# Variants that compute the same result compete on one Pareto front: the three forward dynamics; every other
-# algorithm competes only with itself in the other scalar type.
+# Variants that compute the same result compete on one Pareto front: the three forward dynamics, and the derivatives
+# of RNEA (analytical, automatic differentiation, forward and central differences); every other algorithm competes
+# only with itself in the other scalar type.
 FORWARD_DYNAMICS = ("ABA", "FD_CRBA_LTDL", "FD_CRBA_DenseLLT")
+RNEA_DERIVATIVES = ("RNEA_derivatives", "RNEA_derivatives_fd", "RNEA_derivatives_central", "RNEA_derivatives_ad")
 
 
 def result_group(algorithm):
-    return "forward dynamics" if algorithm in FORWARD_DYNAMICS else algorithm
+    if algorithm in FORWARD_DYNAMICS:
+        return "forward dynamics"
+    if algorithm in RNEA_DERIVATIVES:
+        return "RNEA derivatives"
+    return algorithm
 
 
 # ---------------------------------------------------------------------------------------------------------------
@@ -868,6 +877,22 @@ def write_report(out_dir, compilers, records, time_kind, charts_enabled=True, sc
     w(md_table(["model", "compiler", "RNEA derivatives (ct)", "RNEA derivatives (rt)", "ABA derivatives (ct)",
                 "H⁻¹ (ct)", "finite differences (ct)", "finite differences ÷ analytical"], drows))
     w("")
+    arows = []
+    for c in compiler_list:
+        for algorithm in RNEA_DERIVATIVES:
+            for scalar in ("double", "float"):
+                r = find(records, compiler=c, model=TARGET_MODEL, algorithm=algorithm, scalar=scalar, tree="static")
+                if r and r["max_rel_error"] is not None:
+                    arows.append([c, ALGORITHM_TITLES.get(algorithm, algorithm), scalar, fmt_ns(r["ns"]),
+                                  f"{r['max_rel_error']:.1e}", f"{r['median_rel_error']:.1e}"])
+    if arows:
+        w(f"Accuracy against run time on {TARGET_MODEL} (error study: max and median over 64 states of "
+          "‖y − y_ref‖∞ / ‖y_ref‖∞ for y = [∂τ/∂q ∂τ/∂q̇], against the analytical derivatives in long double; "
+          "forward differences with step √ε, central with ∛ε; these are also points of the run-time-against-error "
+          "chart):")
+        w("")
+        w(md_table(["compiler", "method", "scalar", "time per call", "max rel. error", "median rel. error"], arows))
+        w("")
 
     w("## Reference rows")
     w("")
