@@ -164,6 +164,17 @@ TEST(Autodiff, DualValuesEqualTheDoubleResults) {
     for (int i = 0; i < 12; ++i)
       for (int j = 0; j < 12; ++j) H(i, j) = Hd(i, j).val;
     EXPECT_LT((H - crba(model, d, q)).cwiseAbs().maxCoeff(), 1e-14 * (1 + H.cwiseAbs().maxCoeff()));
+    // CRBA-based forward dynamics (Eigen's Cholesky on duals) and the analytical derivatives themselves on duals.
+    EXPECT_LT(close(values(forward_dynamics_crba(md, dd, seeded(q), seeded(v), seeded(a))), aba(model, d, q, v, a)),
+              1e-12);
+    DerivativeData<Dual> ddd(md);
+    DerivativeData<double> ddv(model);
+    rnea_derivatives(md, dd, ddd, seeded(q), seeded(v), seeded(a));
+    rnea_derivatives(model, d, ddv, q, v, a);
+    Mat dq(12, 12);
+    for (int i = 0; i < 12; ++i)
+      for (int j = 0; j < 12; ++j) dq(i, j) = ddd.dtau_dq(i, j).val;
+    EXPECT_LT(rel_err(dq, ddv.dtau_dq), 1e-14);
     // The AD oracle's value outputs.
     const auto r = ad_rnea_derivatives(model, q, v, a, f, ForceFrame::Base);
     EXPECT_LT(close(r.tau, rnea(model, d, q, v, a, f, ForceFrame::Base)), 1e-14);

@@ -133,7 +133,8 @@ inline bool isinf(const Dual& x) { return std::isinf(x.val) || std::isinf(x.der)
 
 namespace std {
 template <>
-class numeric_limits<spatial::testing::Dual> {
+struct numeric_limits<spatial::testing::Dual> {
+ private:
   using D = std::numeric_limits<double>;
   using T = spatial::testing::Dual;
 
@@ -171,7 +172,7 @@ struct NumTraits<spatial::testing::Dual> : GenericNumTraits<spatial::testing::Du
     IsComplex = 0,
     IsInteger = 0,
     IsSigned = 1,
-    RequireInitialization = 0,  // trivially copyable, but Dual() is 0 + 0ε, so nothing is left uninitialised anyway
+    RequireInitialization = 0,  // trivially copyable: Eigen may leave dynamic storage unconstructed, as for double
     ReadCost = 2,
     AddCost = 2,
     MulCost = 3,
