@@ -9,7 +9,7 @@
 // for fixed (`Model<double, T>`) and floating (`FloatingModel<double, T>`) bases. A floating base is differentiated
 // in the tangent space, as the analytical derivatives are: column k is d/dε f(integrate(q, ε e_k)) at ε = 0, the
 // dual number carrying ε through `integrate` itself. Compile-time trees are differentiated through their run-time
-// twin (`runtime_twin`: the same joints, transforms, inertias and parents as a `Model<double>`), so that the oracle
+// twin (`to_runtime()`: the same joints, transforms, inertias and parents over a run-time tree), so that the oracle
 // does not instantiate the unrolled compile-time algorithms a second time, for a scalar the optimiser knows nothing
 // about.
 //
@@ -212,30 +212,6 @@ Eigen::VectorXd derivatives(const Eigen::MatrixBase<V>& x) {
   return out;
 }
 
-/// The run-time twin of a model: a `Model<double>` with the same bodies, parents, joints, tree transforms, inertias
-/// and gravity (a run-time model is returned as it is).
-template <class T>
-Model<double> runtime_twin(const Model<double, T>& model) {
-  if constexpr (!Model<double, T>::is_static) {
-    return model;
-  } else {
-    ModelBuilder<double> b;
-    b.set_gravity(model.gravity());
-    for (int i = 0; i < model.size(); ++i)
-      b.add_body(model.body_name(i), model.parent(i), model.joint_type(i), model.tree_transform(i), model.inertia(i),
-                 model.axis(i), model.joint_name(i));
-    return b.build();
-  }
-}
-template <class T>
-FloatingModel<double> runtime_twin(const FloatingModel<double, T>& model) {
-  if constexpr (!FloatingModel<double, T>::is_static) {
-    return model;
-  } else {
-    return FloatingModel<double>(runtime_twin(model.tree()), model.root_inertia(), model.root_name());
-  }
-}
-
 namespace detail_ad {
 /// External forces as duals (constants); NoExternalForces stays as it is.
 inline NoExternalForces dual_forces(NoExternalForces f) { return f; }
@@ -267,7 +243,7 @@ template <class T, class Ext = NoExternalForces>
 AdRneaDerivatives ad_rnea_derivatives(const Model<double, T>& model, const Eigen::VectorXd& q,
                                       const Eigen::VectorXd& v, const Eigen::VectorXd& a, const Ext& fext = Ext(),
                                       ForceFrame frame = ForceFrame::Body) {
-  const Model<Dual> m = runtime_twin(model).template cast<Dual>();
+  const Model<Dual> m = model.to_runtime().template cast<Dual>();
   Data<Dual> data(m);
   const auto f = detail_ad::dual_forces(fext);
   const int n = m.size();
@@ -286,7 +262,7 @@ template <class T, class Ext = NoExternalForces>
 AdAbaDerivatives ad_aba_derivatives(const Model<double, T>& model, const Eigen::VectorXd& q,
                                     const Eigen::VectorXd& v, const Eigen::VectorXd& tau, const Ext& fext = Ext(),
                                     ForceFrame frame = ForceFrame::Body) {
-  const Model<Dual> m = runtime_twin(model).template cast<Dual>();
+  const Model<Dual> m = model.to_runtime().template cast<Dual>();
   Data<Dual> data(m);
   const auto f = detail_ad::dual_forces(fext);
   const int n = m.size();
@@ -306,7 +282,7 @@ template <class T, class Ext = NoExternalForces>
 AdRneaDerivatives ad_rnea_derivatives(const FloatingModel<double, T>& model, const Eigen::VectorXd& q,
                                       const Eigen::VectorXd& v, const Eigen::VectorXd& a, const Ext& fext = Ext(),
                                       ForceFrame frame = ForceFrame::Body) {
-  const FloatingModel<Dual> m = runtime_twin(model).template cast<Dual>();
+  const FloatingModel<Dual> m = model.to_runtime().template cast<Dual>();
   FloatingData<Dual> data(m);
   const auto f = detail_ad::dual_forces(fext);
   const int nv = m.nv();
@@ -325,7 +301,7 @@ template <class T, class Ext = NoExternalForces>
 AdAbaDerivatives ad_aba_derivatives(const FloatingModel<double, T>& model, const Eigen::VectorXd& q,
                                     const Eigen::VectorXd& v, const Eigen::VectorXd& tau, const Ext& fext = Ext(),
                                     ForceFrame frame = ForceFrame::Body) {
-  const FloatingModel<Dual> m = runtime_twin(model).template cast<Dual>();
+  const FloatingModel<Dual> m = model.to_runtime().template cast<Dual>();
   FloatingData<Dual> data(m);
   const auto f = detail_ad::dual_forces(fext);
   const int nv = m.nv();
