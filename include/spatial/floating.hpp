@@ -42,6 +42,7 @@
 #include <cstdlib>
 #include <random>
 #include <string>
+#include <type_traits>
 #include <utility>
 
 namespace spatial {
@@ -273,17 +274,30 @@ struct TreeForcesFromWorld {
   Force<S> operator[](std::size_t k) const { return X0.apply_force(ext[k + 1]); }
 };
 
+/// True for the built-in floating-point types. Other scalars (automatic-differentiation types: dual numbers, Eigen's
+/// AutoDiffScalar) take small-angle branches that are smooth in θ² — no √θ², whose derivative at θ = 0 is 0/0 — and
+/// carry one more Taylor term, so that derivatives too stay accurate near θ = 0; float and double keep their code.
+template <class S>
+inline constexpr bool is_builtin_float_v = std::is_floating_point_v<S>;
+
 /// Small-angle-safe coefficients of the SO(3)/SE(3) exponential: with θ = |ω|,
-/// a = sin θ / θ, b = (1 − cos θ)/θ², c = (θ − sin θ)/θ³ (Taylor series below θ² < 1e-6 · 60).
+/// a = sin θ / θ, b = (1 − cos θ)/θ², c = (θ − sin θ)/θ³ (Taylor series below θ² < 1e-6 · 60; for scalars other
+/// than the built-in floating-point types to one more term, whose derivative in θ² is then accurate to ~1e-16).
 template <class S>
 void exp_coefficients(S th2, S& a, S& b, S& c) {
   using std::cos;
   using std::sin;
   using std::sqrt;
   if (th2 < S(1e-4)) {
-    a = S(1) - th2 / S(6) * (S(1) - th2 / S(20));
-    b = S(0.5) - th2 / S(24) * (S(1) - th2 / S(30));
-    c = S(1) / S(6) - th2 / S(120) * (S(1) - th2 / S(42));
+    if constexpr (is_builtin_float_v<S>) {
+      a = S(1) - th2 / S(6) * (S(1) - th2 / S(20));
+      b = S(0.5) - th2 / S(24) * (S(1) - th2 / S(30));
+      c = S(1) / S(6) - th2 / S(120) * (S(1) - th2 / S(42));
+    } else {
+      a = S(1) - th2 / S(6) * (S(1) - th2 / S(20) * (S(1) - th2 / S(42)));
+      b = S(0.5) - th2 / S(24) * (S(1) - th2 / S(30) * (S(1) - th2 / S(56)));
+      c = S(1) / S(6) - th2 / S(120) * (S(1) - th2 / S(42) * (S(1) - th2 / S(72)));
+    }
   } else {
     const S th = sqrt(th2);
     const S s = sin(th), co = cos(th);
@@ -320,8 +334,11 @@ void integrate(const FloatingModel<S, T>& model, const Eigen::MatrixBase<Q>& q, 
   detail::exp_coefficients(w.squaredNorm() / S(4), ah, bh, ch);
   using std::cos;
   using std::sqrt;
-  const Eigen::Quaternion<S> dq(cos(sqrt(w.squaredNorm()) / S(2)), ah / S(2) * w[0], ah / S(2) * w[1],
-                                ah / S(2) * w[2]);
+  // cos(θ/2); for AD scalars as 1 − (θ/2)² b(θ/2), smooth in θ² (cos √θ² has no derivative at θ = 0).
+  S ch2;
+  if constexpr (detail::is_builtin_float_v<S>) ch2 = cos(sqrt(w.squaredNorm()) / S(2));
+  else ch2 = S(1) - w.squaredNorm() / S(4) * bh;
+  const Eigen::Quaternion<S> dq(ch2, ah / S(2) * w[0], ah / S(2) * w[1], ah / S(2) * w[2]);
   const Eigen::Quaternion<S> q0 = root_quaternion(q).template cast<S>();
   const Vector3<S> p0 = Vector3<S>(S(q[0]), S(q[1]), S(q[2]));
   const Vector3<S> p1 = p0 + q0 * dp;
@@ -356,16 +373,27 @@ void difference(const FloatingModel<S, T>& model, const Eigen::MatrixBase<Q0>& q
   Eigen::Quaternion<S> d = r0.conjugate() * r1;
   if (d.w() < S(0)) d.coeffs() = -d.coeffs();
   const Vector3<S> xyz = d.vec();
-  const S sn = xyz.norm();
-  // ω = θ · axis with θ = 2 atan2(|xyz|, w): the factor θ / |xyz|, by its series for small angles.
-  const S k = sn < S(1e-6) ? S(2) / d.w() * (S(1) - sn * sn / (S(3) * d.w() * d.w())) : S(2) * atan2(sn, d.w()) / sn;
+  // ω = θ · axis with θ = 2 atan2(|xyz|, w): the factor θ / |xyz|, by its series for small angles. For AD scalars
+  // the series is taken in |xyz|² (|xyz| = √|xyz|² has no derivative at 0) with one more term.
+  S k;
+  if constexpr (detail::is_builtin_float_v<S>) {
+    const S sn = xyz.norm();
+    k = sn < S(1e-6) ? S(2) / d.w() * (S(1) - sn * sn / (S(3) * d.w() * d.w())) : S(2) * atan2(sn, d.w()) / sn;
+  } else {
+    using std::sqrt;
+    const S sn2 = xyz.squaredNorm();
+    const S x2 = sn2 / (d.w() * d.w());  // tan²(θ/2); atan(x)/x = 1 − x²/3 + x⁴/5 − …
+    k = sn2 < S(1e-12) ? S(2) / d.w() * (S(1) - x2 / S(3) * (S(1) - S(3) * x2 / S(5)))
+                       : S(2) * atan2(sqrt(sn2), d.w()) / sqrt(sn2);
+  }
   const Vector3<S> w = k * xyz;
   const Vector3<S> dp = r0.conjugate() * Vector3<S>(S(q1[0] - q0[0]), S(q1[1] - q0[1]), S(q1[2] - q0[2]));
   // u = V(ω)⁻¹ dp, V⁻¹ = 1 − ½ ω̂ + e ω̂², e = (1 − θ sin θ / (2 (1 − cos θ))) / θ² (series: 1/12 + θ²/720).
   const S th2 = w.squaredNorm();
   S e;
   if (th2 < S(1e-4)) {
-    e = S(1) / S(12) + th2 / S(720);
+    if constexpr (detail::is_builtin_float_v<S>) e = S(1) / S(12) + th2 / S(720);
+    else e = S(1) / S(12) + th2 / S(720) * (S(1) + th2 / S(42));  // + θ⁴/30240
   } else {
     using std::cos;
     using std::sin;
