@@ -6,10 +6,50 @@
 // (random within the model's input range), so nothing is cached between calls.
 #include "bench_common.hpp"
 #include "bench_derivatives.hpp"
+#include "support/autodiff.hpp"
 
 namespace {
 using namespace spatial;
 using namespace spatial::bench;
+
+/// RNEA_derivatives_ad: ∂τ/∂q and ∂τ/∂q̇ by forward-mode automatic differentiation (tests/support/autodiff.hpp's
+/// dual number, one derivative per pass: 2n RNEA passes in duals), on the run-time twin in duals built once.
+void register_ad(const std::string& model_name, const Model<double>& model, const InputPool<double>& pool) {
+  using spatial::testing::Dual;
+  using VD = Eigen::Matrix<Dual, Eigen::Dynamic, 1>;
+  struct Fx {
+    Model<Dual> m;
+    Data<Dual> data;
+    InputPool<double> pool;
+    Eigen::MatrixXd dq, dv;
+    VD q, v, a;
+    Fx(const Model<double>& model, const InputPool<double>& p)
+        : m(model.cast<Dual>()), data(m), pool(p), dq(model.size(), model.size()), dv(dq), q(model.size()),
+          v(model.size()), a(model.size()) {}
+  };
+  auto fx = std::make_shared<Fx>(model, pool);
+  register_one(bench_name("spatial", "RNEA_derivatives_ad", model_name, "double", "runtime"), fx, [](Fx& f, int k) {
+    const auto s = static_cast<std::size_t>(k);
+    const int n = f.m.size();
+    for (int i = 0; i < n; ++i) {
+      f.q[i] = Dual(f.pool.q[s][i]);
+      f.v[i] = Dual(f.pool.qd[s][i]);
+      f.a[i] = Dual(f.pool.u[s][i]);
+    }
+    for (int c = 0; c < n; ++c) {
+      f.q[c].der = 1.0;
+      const auto& t1 = rnea(f.m, f.data, f.q, f.v, f.a);
+      for (int i = 0; i < n; ++i) f.dq(i, c) = t1[i].der;
+      f.q[c].der = 0.0;
+      f.v[c].der = 1.0;
+      const auto& t2 = rnea(f.m, f.data, f.q, f.v, f.a);
+      for (int i = 0; i < n; ++i) f.dv(i, c) = t2[i].der;
+      f.v[c].der = 0.0;
+    }
+    benchmark::DoNotOptimize(f.dq.data());
+    benchmark::ClobberMemory();
+  });
+}
 
 const bool registered = [] {
   add_build_context();
@@ -32,7 +72,10 @@ const bool registered = [] {
     };
     derivatives("static", entry.model);
     derivatives("runtime", entry.model.to_runtime());
-    if (variants) derivatives("static", entry.model.template cast<float>());
+    if (variants) {
+      derivatives("static", entry.model.template cast<float>());
+      register_ad(entry.name, entry.model.to_runtime(), InputPool<double>(entry.range));
+    }
   });
   return true;
 }();

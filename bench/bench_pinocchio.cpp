@@ -257,9 +257,15 @@ void register_pinocchio_floating() {
       jac{"Pinocchio getFrameJacobian L_SOLE LOCAL/WORLD/LOCAL_WORLD_ALIGNED (double) on floating27", 1e-12},
       cjac{"Pinocchio computeFrameJacobian L_SOLE LOCAL/WORLD/LOCAL_WORLD_ALIGNED (double) on floating27", 1e-12},
       jcom{"Pinocchio jacobianCenterOfMass (double) on floating27", 1e-12},
-      ag{"Pinocchio ccrba A_G (double) on floating27", 1e-12},
-      fkd{"Pinocchio getFrameAccelerationDerivatives L_SOLE v/a partials LOCAL/WORLD/LOCAL_WORLD_ALIGNED (double) on "
-          "floating27", 1e-12};
+      ag{"Pinocchio ccrba A_G (double) on floating27", 1e-12};
+  const char* const rf_names[3] = {"LOCAL", "WORLD", "LOCAL_WORLD_ALIGNED"};
+  const char* const partials[5] = {"v_partial_dq", "a_partial_dq", "a_partial_dv", "a_partial_da", "v_partial_dv"};
+  std::vector<PeerCheck> fkd;
+  for (const char* rfn : rf_names)
+    for (const char* part : partials)
+      fkd.push_back({std::string("Pinocchio getFrame{Velocity,Acceleration}Derivatives L_SOLE ") + part + " " + rfn +
+                         " (double) on floating27",
+                     1e-12});
   FrameKinematicsDerivatives<double, 27> kd(model);
   const std::pair<pinocchio::ReferenceFrame, ReferenceFrame> frames[] = {
       {pinocchio::LOCAL, ReferenceFrame::Local},
@@ -300,20 +306,26 @@ void register_pinocchio_floating() {
     ag.compare(fx->peer.from_pinocchio_columns(pinocchio::ccrba(pm, fx->data, fx->q[s], fx->v[s])), Ag);
     // Frame velocity and acceleration derivatives (the state's u as the acceleration).
     pinocchio::computeForwardKinematicsDerivatives(pm, fx->data, fx->q[s], fx->v[s], fx->u[s]);
-    for (const auto& [prf, rf] : frames) {
+    for (std::size_t f = 0; f < 3; ++f) {
+      const auto& [prf, rf] = frames[f];
       Eigen::MatrixXd p[5];
       for (auto& x : p) x = Eigen::MatrixXd::Zero(6, pm.nv);
       pinocchio::getFrameAccelerationDerivatives(pm, fx->data, fx->frame, prf, p[0], p[1], p[2], p[3]);
       pinocchio::getFrameVelocityDerivatives(pm, fx->data, fx->frame, prf, p[0], p[4]);
       frame_kinematics_derivatives(model, data, kd, q, v, u, frame, rf);
-      fkd.compare(fx->peer.from_pinocchio_columns(p[0]), kd.v_dq);
-      fkd.compare(fx->peer.from_pinocchio_columns(p[4]), kd.v_dv);
-      fkd.compare(fx->peer.from_pinocchio_columns(p[1]), kd.a_dq);
-      fkd.compare(fx->peer.from_pinocchio_columns(p[2]), kd.a_dv);
-      fkd.compare(fx->peer.from_pinocchio_columns(p[3]), kd.a_da);
+      const Eigen::Matrix<double, 6, 27>* ours[5] = {&kd.v_dq, &kd.a_dq, &kd.a_dv, &kd.a_da, &kd.v_dv};
+      // LOCAL_WORLD_ALIGNED ∂/∂q: Pinocchio shifts the joint's derivative to the frame by the joint-to-frame offset
+      // held constant (its frames-derivatives.hxx), which is not the derivative of getFrameVelocity/Acceleration in
+      // LOCAL_WORLD_ALIGNED when the body turns (pinocchio#2702); ours is (tests/test_frame_derivatives.cpp checks
+      // it by finite differences). Those two are not compared; everything else is.
+      for (std::size_t m = 0; m < 5; ++m)
+        if (!(rf == ReferenceFrame::LocalWorldAligned && m < 2))
+          fkd[5 * f + m].compare(fx->peer.from_pinocchio_columns(p[m]), *ours[m]);
     }
   }
-  for (const PeerCheck* c : {&tau, &mass, &fd, &jac, &cjac, &jcom, &ag, &fkd}) c->report();
+  for (const PeerCheck* c : {&tau, &mass, &fd, &jac, &cjac, &jcom, &ag}) c->report();
+  for (std::size_t k = 0; k < fkd.size(); ++k)
+    if (k != 10 && k != 11) fkd[k].report();  // LOCAL_WORLD_ALIGNED v_partial_dq, a_partial_dq: see above
   check_derivatives(fx->peer, fx->data, fx->q, fx->v, fx->u, model, pool.q, pool.v, pool.u, "floating27");
 
   using Fx = FloatingPinFixture;

@@ -8,7 +8,8 @@
 //    or every body's pose [E r] for forward kinematics). This covers float vs double and ABA vs CRBA + tree LTDL vs
 //    CRBA + dense Cholesky (Eigen LLT). The derivatives of RNEA (y = [∂τ/∂q ∂τ/∂q̇]) analytically
 //    (RNEA_derivatives), by forward differences (RNEA_derivatives_fd, step √ε) and by central differences
-//    (RNEA_derivatives_central, step ∛ε), all against the analytical derivatives in long double.
+//    (RNEA_derivatives_central, step ∛ε), and in double by forward-mode automatic differentiation
+//    (RNEA_derivatives_ad, tests/support/autodiff.hpp), all against the analytical derivatives in long double.
 // 2. Simulation: integrators (semi-implicit Euler, explicit midpoint RK2, classic RK4) at several step sizes on the
 //    21-body model over 1 s of simulated time, from a random state, with τ = −D q̇ (light joint damping) and forward
 //    dynamics by ABA in double. Error = max |q(1 s) − q_ref(1 s)| against RK4 in long double with a step 4× finer than
@@ -20,6 +21,7 @@
 //    (SPATIAL_ERROR_STUDY_SCENES undefined) it is recorded as pending in the JSON.
 #include "bench_models.hpp"
 #include "fd_derivatives.hpp"
+#include "support/autodiff.hpp"
 #include "support/integrators.hpp"
 #ifdef SPATIAL_ERROR_STUDY_SCENES
 #include "error_study_scenes.hpp"
@@ -135,6 +137,21 @@ void study_scalar(const BenchModel<TreeT>& entry, const InputPool<double>& pool,
     }
     std::sort(errors.begin(), errors.end());
     out.push_back({entry.name, algorithm, scalar_name<S>(), errors.back(), errors[errors.size() / 2]});
+  }
+  if constexpr (std::is_same_v<S, double>) {
+    // Automatic differentiation (double duals): the same [∂τ/∂q ∂τ/∂q̇].
+    std::vector<double> errors;
+    for (int k = 0; k < kSamples && k < pool.size(); ++k) {
+      const auto s = static_cast<std::size_t>(k);
+      const Vd ql = pool.q[s].cast<long double>(), qdl = pool.qd[s].cast<long double>(), ul = pool.u[s].cast<long double>();
+      const auto y_ref = ref.run("RNEA_derivatives", ql, qdl, ul);
+      const auto ad = spatial::testing::ad_rnea_derivatives(runtime, pool.q[s], pool.qd[s], pool.u[s]);
+      Eigen::MatrixXd y(runtime.size(), 2 * runtime.size());
+      y << ad.dtau_dq, ad.dtau_dv;
+      errors.push_back(static_cast<double>(rel_error(y, y_ref)));
+    }
+    std::sort(errors.begin(), errors.end());
+    out.push_back({entry.name, "RNEA_derivatives_ad", "double", errors.back(), errors[errors.size() / 2]});
   }
 }
 

@@ -574,7 +574,9 @@ def variant_points(records, compiler):
     """(time, error, label, scalar, group) for every algorithm variant of the target model that has both."""
     pts = []
     for r in records:
-        if (r["compiler"] == compiler and r["model"] == TARGET_MODEL and r["tree"] == "static"
+        # The AD derivatives run on the run-time twin in dual numbers (there is no compile-time tree in duals).
+        if (r["compiler"] == compiler and r["model"] == TARGET_MODEL
+                and (r["tree"] == "static" or r["algorithm"] == "RNEA_derivatives_ad")
                 and r["ns"] and r["max_rel_error"]):
             pts.append((r["ns"], r["max_rel_error"], f"{r['algorithm']} {r['scalar']}", r["scalar"],
                         result_group(r["algorithm"])))
@@ -881,7 +883,8 @@ def write_report(out_dir, compilers, records, time_kind, charts_enabled=True, sc
     for c in compiler_list:
         for algorithm in RNEA_DERIVATIVES:
             for scalar in ("double", "float"):
-                r = find(records, compiler=c, model=TARGET_MODEL, algorithm=algorithm, scalar=scalar, tree="static")
+                r = find(records, compiler=c, model=TARGET_MODEL, algorithm=algorithm, scalar=scalar, tree="static") \
+                    or find(records, compiler=c, model=TARGET_MODEL, algorithm=algorithm, scalar=scalar, tree="runtime")
                 if r and r["max_rel_error"] is not None:
                     arows.append([c, ALGORITHM_TITLES.get(algorithm, algorithm), scalar, fmt_ns(r["ns"]),
                                   f"{r['max_rel_error']:.1e}", f"{r['median_rel_error']:.1e}"])

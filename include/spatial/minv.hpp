@@ -15,7 +15,8 @@
 ///     registers, no 6 × n block);  H⁻¹(j, j) = 1 / Dⱼ;
 ///   pass 3 (root to leaves, rows i, columns j > i): H⁻¹(i, j) −= Uᵢᵀ A_λ(i)(:, j) / Dᵢ and
 ///     Aᵢ(:, j) = A_λ(i)(:, j) + Sᵢ H⁻¹(i, j), Aᵢ being body i's accelerations for the unit torques (ABA's pass 3).
-/// Only the upper triangle (j ≥ i) is computed; the lower one is copied from it, so H⁻¹ is exactly symmetric.
+/// Only one triangle is computed (stored as the lower one, H⁻¹(j, i) for j ≥ i, whose columns are contiguous); the
+/// other is copied from it, so H⁻¹ is exactly symmetric.
 /// Pass 1 is O(n), pass 2 O(n·depth), pass 3 O(n²) (H⁻¹ of a tree is dense within each branch of the base).
 ///
 /// On a floating base the free-flyer is a 6-DoF joint with S = 1 at the root: D₀ = Iᴬ₀ (6 × 6, inverted by its
@@ -99,7 +100,7 @@ void minv_articulated(const Model<S, T>& model, const Data<S, T>& data, Buffers&
   });
 }
 
-/// Pass 2 of the tree: the columns `off + j` of the rows of j and its ancestors (upper triangle). Returns nothing;
+/// Pass 2 of the tree: the columns `off + j` of the rows of j and its ancestors, stored transposed (lower triangle);
 /// `root_force(j, f)` receives the force each column passes to a free-flying root (unused on a fixed base).
 template <class S, class T, class Buffers, class RootForce>
 void minv_columns(const Model<S, T>& model, Buffers& md, int off, RootForce&& root_force) {
@@ -113,7 +114,7 @@ void minv_columns(const Model<S, T>& model, Buffers& md, int off, RootForce&& ro
     walk_up(model, J, [&](auto, auto A) {
       const auto ak = static_cast<std::size_t>(int(A));
       const S m = -md.Dinv[ak] * dot(md.S0[ak], f);
-      M(off + int(A), off + j) = m;
+      M(off + j, off + int(A)) = m;
       f += md.U[ak] * m;
     });
     root_force(j, f);
@@ -121,7 +122,8 @@ void minv_columns(const Model<S, T>& model, Buffers& md, int off, RootForce&& ro
 }
 
 /// Pass 3 of the tree: rows `off + i`, columns c ≥ off + i + 1 (and, with a free-flying root, A of the root in
-/// `A_root`, whose columns ≥ off are used).
+/// `A_root`, whose columns ≥ off are used). Works on the transposed entries M(c, r), c ≥ r (the lower triangle,
+/// contiguous in Eigen's column-major storage), one column of 6-vectors at a time.
 template <class S, class T, class Buffers, class RootBlock>
 void minv_rows(const Model<S, T>& model, Buffers& md, int off, const RootBlock* A_root) {
   auto& M = md.Minv;
@@ -131,27 +133,30 @@ void minv_rows(const Model<S, T>& model, Buffers& md, int off, const RootBlock* 
     const auto k = static_cast<std::size_t>(i);
     const int p = model.parent(I);
     const int r = off + i;
-    const int m = nv - r;  // columns r … nv − 1
     auto& Ai = md.A[k];
     const Vector6<S> s = motion_col(md.S0[k]);
+    S* col = &M(0, r);
     if (p >= 0 || A_root) {
       const auto& Ap = p >= 0 ? md.A[static_cast<std::size_t>(p)] : *A_root;
-      const Eigen::Matrix<S, 1, 6> u = force_row(md.U[k]) * md.Dinv[k];
-      M.row(r).tail(m).noalias() -= u * Ap.rightCols(m);
-      Ai.rightCols(m) = Ap.rightCols(m);
-      Ai.rightCols(m).noalias() += s * M.row(r).tail(m);
+      const Vector6<S> u = force_row(md.U[k]).transpose() * md.Dinv[k];
+      for (int c = r; c < nv; ++c) {
+        const Vector6<S> a = Ap.col(c);
+        const S m = col[c] - u.dot(a);
+        col[c] = m;
+        Ai.col(c) = a + s * m;
+      }
     } else {
-      Ai.rightCols(m).noalias() = s * M.row(r).tail(m);
+      for (int c = r; c < nv; ++c) Ai.col(c) = s * col[c];
     }
   });
 }
 
-/// Lower triangle ← upper triangle.
+/// Upper triangle ← lower triangle.
 template <class Matrix>
 void minv_symmetrize(Matrix& M) {
   const auto n = M.rows();
   for (Eigen::Index j = 0; j < n; ++j)
-    for (Eigen::Index i = j + 1; i < n; ++i) M(i, j) = M(j, i);
+    for (Eigen::Index i = j + 1; i < n; ++i) M(j, i) = M(i, j);
 }
 }  // namespace detail
 
@@ -180,8 +185,8 @@ const typename MinvData<S, T>::Matrix& inverse_inertia(const Model<S, T>& model,
   detail::check_sizes(model, "inverse_inertia", "q", q);
   detail::joint_sincos(model, data, q);
   for_each_body(model, [&](auto I) { detail::update_transform<true>(model, data, I, q); });
-  // Entries (i, j), j > i, where i is not an ancestor of j get no pass-2 term: start them from zero.
-  md.Minv.template triangularView<Eigen::StrictlyUpper>().setZero();
+  // Entries (j, i), j > i, where i is not an ancestor of j get no pass-2 term: start them from zero.
+  md.Minv.template triangularView<Eigen::StrictlyLower>().setZero();
   detail::minv_articulated(model, data, md, static_cast<ArticulatedInertia<S>*>(nullptr));
   detail::minv_columns(model, md, 0, [](int, const Force<S>&) {});
   detail::minv_rows(model, md, 0, static_cast<const typename MinvData<S, T>::Block*>(nullptr));
@@ -202,7 +207,7 @@ const typename FloatingMinvData<S, T>::Matrix& inverse_inertia(const FloatingMod
   detail::joint_sincos(tree, td, qj);
   for_each_body(tree, [&](auto I) { detail::update_transform<true>(tree, td, I, qj); });
   auto& M = md.Minv;
-  M.template triangularView<Eigen::StrictlyUpper>().setZero();
+  M.template triangularView<Eigen::StrictlyLower>().setZero();
   // Pass 1, and the root's articulated inertia D₀ = Iᴬ₀ (angular first), inverted through its Cholesky factor.
   ArticulatedInertia<S> IA0(model.root_inertia());
   detail::minv_articulated(tree, td, md, &IA0);
@@ -212,18 +217,16 @@ const typename FloatingMinvData<S, T>::Matrix& inverse_inertia(const FloatingMod
   const Matrix6<S> D0inv = llt.solve(Matrix6<S>::Identity());
   // v's order is linear first: tangent index c ↔ motion row (c + 3) % 6.
   for (int r = 0; r < 6; ++r)
-    for (int c = r; c < 6; ++c) M(r, c) = D0inv((r + 3) % 6, (c + 3) % 6);
+    for (int c = 0; c < 6; ++c) M(r, c) = D0inv((r + 3) % 6, (c + 3) % 6);
   // Pass 2: tree columns, then the root's rows for them, −D₀⁻¹ f.
   detail::minv_columns(tree, md, 6, [&](int j, const Force<S>& f) {
     Vector6<S> fx;
     fx << f.n, f.f;
     const Vector6<S> x = -(D0inv * fx);
-    for (int r = 0; r < 6; ++r) M(r, 6 + j) = x((r + 3) % 6);
+    for (int r = 0; r < 6; ++r) M(6 + j, r) = x((r + 3) % 6);
   });
-  // Pass 3: the root's accelerations are its rows (upper triangle) — complete its 6 × 6 block first.
-  for (int r = 0; r < 6; ++r)
-    for (int c = 0; c < r; ++c) M(r, c) = M(c, r);
-  for (int r = 0; r < 6; ++r) md.A0.row(r) = M.row((r + 3) % 6);
+  // Pass 3: the root's accelerations are its rows, i.e. its columns of the lower triangle.
+  for (int r = 0; r < 6; ++r) md.A0.row(r) = M.col((r + 3) % 6).transpose();
   detail::minv_rows(tree, md, 6, &md.A0);
   detail::minv_symmetrize(M);
   return M;
