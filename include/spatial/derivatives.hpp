@@ -36,7 +36,7 @@
 /// a one-DoF joint's (the root's spatial acceleration is v̇ itself): ∂τᵢ/∂vᵦ = Sᵢᵀ(Iᶜᵢ (v₀ × Sᵦ) − Bᶜᵢ Sᵦ).
 ///
 /// Forward dynamics: q̈ = FD(q, v, τ) satisfies RNEA(q, v, q̈) = τ, so ∂q̈/∂x = −H⁻¹ ∂τ/∂x at (q, v, q̈) for
-/// x = q, v, and ∂q̈/∂τ = H⁻¹ (computed from CRBA and the tree-sparse LTDL factor).
+/// x = q, v, and ∂q̈/∂τ = H⁻¹, computed directly (minv.hpp, without forming H); q̈ itself is H⁻¹ (τ − RNEA(q, v, 0)).
 ///
 /// **Kinematics.** `frame_kinematics_derivatives(model, data, out, q, v, a, frame, rf)` → the derivatives of a
 /// frame's spatial velocity and spatial acceleration (as `frame_velocity` / `frame_acceleration` return them, in
@@ -47,6 +47,7 @@
 #include "spatial/algorithms.hpp"
 #include "spatial/floating.hpp"
 #include "spatial/kinematics.hpp"
+#include "spatial/minv.hpp"
 
 #include <cstddef>
 #include <type_traits>
@@ -143,15 +144,12 @@ struct DerivativeRoot {
 
 /// The tree's part of the RNEA derivatives. Writes rows/columns `off + i` of dq and dv, τᵢ into tau[off + i] and,
 /// for a floating root, the free-flyer's rows (0…5) for the tree's columns and its columns for the tree's rows.
-template <class S, class T, class Q, class V, class A, class Ext, class MQ, class MV, class Tau, class MH>
+template <class S, class T, class Q, class V, class A, class Ext, class MQ, class MV, class Tau>
 void rnea_derivatives_tree(const Model<S, T>& model, Data<S, T>& data, DerivativeBodies<S, T>& b,
                            const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<V>& v,
                            const Eigen::MatrixBase<A>& a, const Ext& fext, ForceFrame frame,
-                           DerivativeRoot<S>& root, const Vector3<S>& g_base, int off, MQ& dq, MV& dv, Tau& tau,
-                           MH* H) {
+                           DerivativeRoot<S>& root, const Vector3<S>& g_base, int off, MQ& dq, MV& dv, Tau& tau) {
   constexpr bool X = has_external_v<Ext>;
-  constexpr bool WithH = !std::is_same_v<MH, std::nullptr_t>;  // H as a by-product: Hᵢⱼ = Sⱼ · Iᶜᵢ Sᵢ (j ⪯ i)
-  (void)H;
   const bool world_forces = X && frame == ForceFrame::Base;
   joint_sincos(model, data, q);
 
@@ -213,7 +211,6 @@ void rnea_derivatives_tree(const Model<S, T>& model, Data<S, T>& data, Derivativ
     tau[r] = dot(Si, b.F[k]);
     dq(r, r) = dot(be, Qr) - dot(b.alpha[k], P);
     dv(r, r) = -dot(Si, Qr) - S(2) * dot(be, P);
-    if constexpr (WithH) (*H)(r, r) = dot(Si, P);
     walk_up(model, I, [&](auto, auto J) {
       const auto jk = static_cast<std::size_t>(int(J));
       const int c = off + int(J);
@@ -224,7 +221,6 @@ void rnea_derivatives_tree(const Model<S, T>& model, Data<S, T>& data, Derivativ
       dv(r, c) = -dot(Sj, Qr) - S(2) * dot(b.beta[jk], P);
       dq(c, r) = dot(Sj, Z);
       dv(c, r) = dot(Sj, Y);
-      if constexpr (WithH) (*H)(r, c) = (*H)(c, r) = dot(Sj, P);
     });
     if (root.floating) {
       // The free-flyer's rows for column i (S_b·Z, S_b·Y, linear first) and its columns for row i.
@@ -233,10 +229,6 @@ void rnea_derivatives_tree(const Model<S, T>& model, Data<S, T>& data, Derivativ
         dq(3 + c, r) = Z.n[c];
         dv(c, r) = Y.f[c];
         dv(3 + c, r) = Y.n[c];
-        if constexpr (WithH) {
-          (*H)(c, r) = (*H)(r, c) = P.f[c];
-          (*H)(3 + c, r) = (*H)(r, 3 + c) = P.n[c];
-        }
       }
       free_flyer_columns<S>(P, Qr, world_forces ? &R : nullptr, g_base, root.v,
                             [&](int c) -> decltype(auto) { return dq(r, c); },
@@ -259,44 +251,6 @@ void rnea_derivatives_tree(const Model<S, T>& model, Data<S, T>& data, Derivativ
   });
 }
 
-/// X ← H⁻¹ X with the factor from `ltdl`: `ltdl_solve` on all columns of X at once, each step an operation on
-/// whole rows of X. `row(k)` returns row k of X as a writable vector expression: callers pass the columns of Xᵀ
-/// (contiguous in Eigen's column-major storage, so every step is one vectorised axpy).
-template <class S, class T, class Row>
-void ltdl_solve_rows(const Model<S, T>& model, const Data<S, T>& data, Row&& x_row) {
-  const auto& L = data.L;
-  for_each_body_reverse(model, [&](auto I) {
-    const int i = I;
-    walk_up(model, I, [&](auto, auto J) { x_row(int(J)) -= L(i, int(J)) * x_row(i); });
-  });
-  for_each_body(model, [&](auto I) { x_row(int(I)) *= S(1) / L(int(I), int(I)); });
-  for_each_body(model, [&](auto I) {
-    const int i = I;
-    walk_up(model, I, [&](auto, auto J) { x_row(i) -= L(i, int(J)) * x_row(int(J)); });
-  });
-}
-/// The same for a floating base (rows 0…5: the free-flyer), following the floating `ltdl_solve`.
-template <class S, class T, class Row>
-void ltdl_solve_rows(const FloatingModel<S, T>& model, const FloatingData<S, T>& data, Row&& x_row) {
-  const auto& tree = model.tree();
-  const auto& L = data.L;
-  for_each_body_reverse(tree, [&](auto I) {
-    const int i = 6 + int(I);
-    walk_up(tree, I, [&](auto, auto J) { x_row(6 + int(J)) -= L(i, 6 + int(J)) * x_row(i); });
-    for (int c = 0; c < 6; ++c) x_row(c) -= L(i, c) * x_row(i);
-  });
-  for (int i = 5; i >= 0; --i)
-    for (int c = 0; c < i; ++c) x_row(c) -= L(i, c) * x_row(i);
-  for (int i = 0; i < model.nv(); ++i) x_row(i) *= S(1) / L(i, i);
-  for (int i = 0; i < 6; ++i)
-    for (int c = 0; c < i; ++c) x_row(i) -= L(i, c) * x_row(c);
-  for_each_body(tree, [&](auto I) {
-    const int i = 6 + int(I);
-    walk_up(tree, I, [&](auto, auto J) { x_row(i) -= L(i, 6 + int(J)) * x_row(6 + int(J)); });
-    for (int c = 0; c < 6; ++c) x_row(i) -= L(i, c) * x_row(c);
-  });
-}
-
 }  // namespace detail
 
 namespace detail {
@@ -307,12 +261,11 @@ struct DerivativeBuffers {
 
   DerivativeBuffers(const Model<S, T>& tree, int n)
       : bodies(tree), dtau_dq(Matrix::Zero(n, n)), dtau_dv(Matrix::Zero(n, n)), dqdd_dq(Matrix::Zero(n, n)),
-        dqdd_dv(Matrix::Zero(n, n)), dqdd_dtau(Matrix::Zero(n, n)), scratch(Matrix::Zero(n, n)) {}
+        dqdd_dv(Matrix::Zero(n, n)), dqdd_dtau(Matrix::Zero(n, n)) {}
 
   DerivativeBodies<S, T> bodies;      ///< per-body scratch (base coordinates)
   Matrix dtau_dq, dtau_dv;            ///< ∂τ/∂q, ∂τ/∂q̇ (rnea_derivatives; row = τ index, column = q index)
   Matrix dqdd_dq, dqdd_dv, dqdd_dtau; ///< ∂q̈/∂q, ∂q̈/∂q̇, ∂q̈/∂τ = H⁻¹ (aba_derivatives)
-  Matrix scratch;                     ///< aba_derivatives' work matrix
 };
 }  // namespace detail
 
@@ -322,7 +275,8 @@ struct DerivativeData : detail::DerivativeBuffers<S, T, Model<S, T>::NB> {
   using ModelType = Model<S, T>;
   using MatrixN = typename detail::DerivativeBuffers<S, T, ModelType::NB>::Matrix;
   explicit DerivativeData(const ModelType& model)
-      : detail::DerivativeBuffers<S, T, ModelType::NB>(model, model.size()) {}
+      : detail::DerivativeBuffers<S, T, ModelType::NB>(model, model.size()), minv(model) {}
+  MinvData<S, T> minv;  ///< aba_derivatives' H⁻¹ (`minv.Minv`, the same as dqdd_dtau)
 };
 
 /// Buffers and results of the floating-base derivatives (nv × nv, tangent space, see the file comment).
@@ -331,18 +285,19 @@ struct FloatingDerivativeData : detail::DerivativeBuffers<S, T, FloatingModel<S,
   using ModelType = FloatingModel<S, T>;
   using MatrixV = typename detail::DerivativeBuffers<S, T, ModelType::NV>::Matrix;
   explicit FloatingDerivativeData(const ModelType& model)
-      : detail::DerivativeBuffers<S, T, ModelType::NV>(model.tree(), model.nv()) {}
+      : detail::DerivativeBuffers<S, T, ModelType::NV>(model.tree(), model.nv()), minv(model) {}
+  FloatingMinvData<S, T> minv;  ///< aba_derivatives' H⁻¹ (`minv.Minv`, the same as dqdd_dtau)
 };
 
 namespace detail {
-template <class S, class T, class Q, class QD, class QDD, class Ext, class MH>
+template <class S, class T, class Q, class QD, class QDD, class Ext>
 void rnea_derivatives_impl(const Model<S, T>& model, Data<S, T>& data, DerivativeData<S, T>& dd,
                            const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<QD>& qd,
-                           const Eigen::MatrixBase<QDD>& qdd, const Ext& fext, ForceFrame frame, MH* H) {
+                           const Eigen::MatrixBase<QDD>& qdd, const Ext& fext, ForceFrame frame) {
   DerivativeRoot<S> root;
   root.a = -model.gravity_motion();
   rnea_derivatives_tree(model, data, dd.bodies, q, qd, qdd, fext, frame, root, model.gravity(), 0, dd.dtau_dq,
-                        dd.dtau_dv, data.tau, H);
+                        dd.dtau_dv, data.tau);
 }
 }  // namespace detail
 
@@ -355,16 +310,15 @@ void rnea_derivatives(const Model<S, T>& model, Data<S, T>& data, DerivativeData
                       const Eigen::MatrixBase<QDD>& qdd, const Ext& fext = Ext(),
                       ForceFrame frame = ForceFrame::Body) {
   detail::check_sizes(model, "rnea_derivatives", "q", q, "qd", qd, "qdd", qdd);
-  detail::rnea_derivatives_impl(model, data, dd, q, qd, qdd, fext, frame, static_cast<std::nullptr_t*>(nullptr));
+  detail::rnea_derivatives_impl(model, data, dd, q, qd, qdd, fext, frame);
 }
 
 namespace detail {
-template <class S, class T, class Q, class V, class A, class Ext, class MH>
+template <class S, class T, class Q, class V, class A, class Ext>
 void rnea_derivatives_impl(const FloatingModel<S, T>& model, FloatingData<S, T>& data,
                            FloatingDerivativeData<S, T>& dd, const Eigen::MatrixBase<Q>& q,
                            const Eigen::MatrixBase<V>& v, const Eigen::MatrixBase<A>& a, const Ext& fext,
-                           ForceFrame frame, MH* H) {
-  constexpr bool WithH = !std::is_same_v<MH, std::nullptr_t>;
+                           ForceFrame frame) {
   constexpr bool X = has_external_v<Ext>;
   constexpr int NJ = FloatingModel<S, T>::NJ;
   const int n = model.njoints();
@@ -399,15 +353,15 @@ void rnea_derivatives_impl(const FloatingModel<S, T>& model, FloatingData<S, T>&
     if (world_forces) {
       const TreeForcesFromWorld<S, Ext> tf{fext, data.X0};
       rnea_derivatives_tree(model.tree(), data.tree, dd.bodies, qj, vj, aj, tf, ForceFrame::Base, root, g, 6,
-                            dd.dtau_dq, dd.dtau_dv, data.tau, H);
+                            dd.dtau_dq, dd.dtau_dv, data.tau);
     } else {
       const TreeForces<Ext> tf{fext};
       rnea_derivatives_tree(model.tree(), data.tree, dd.bodies, qj, vj, aj, tf, ForceFrame::Body, root, g, 6,
-                            dd.dtau_dq, dd.dtau_dv, data.tau, H);
+                            dd.dtau_dq, dd.dtau_dv, data.tau);
     }
   } else {
     rnea_derivatives_tree(model.tree(), data.tree, dd.bodies, qj, vj, aj, fext, ForceFrame::Body, root, g, 6,
-                          dd.dtau_dq, dd.dtau_dv, data.tau, H);
+                          dd.dtau_dq, dd.dtau_dv, data.tau);
   }
   // The free-flyer's 6 × 6 block: rows Sₐ (Pₐ = Iᶜ₀ Sₐ, Qₐ = Bᶜ₀ᵀ Sₐ, Rₐ = Sₐ ×* Fˣ₀), columns as for any row.
   data.f0 = root.F;
@@ -424,13 +378,6 @@ void rnea_derivatives_impl(const FloatingModel<S, T>& model, FloatingData<S, T>&
                           [&](int c) -> decltype(auto) { return dd.dtau_dq(r, c); },
                           [&](int c) -> decltype(auto) { return dd.dtau_dv(r, c); });
   }
-  if constexpr (WithH) {  // the free-flyer's block of H: Iᶜ₀, linear first ([m1 h̃ᵀ; h̃ Ī])
-    const Matrix3<S> hx = skew(root.Ic.h);
-    H->template block<3, 3>(0, 0) = root.Ic.m * Matrix3<S>::Identity();
-    H->template block<3, 3>(0, 3) = hx.transpose();
-    H->template block<3, 3>(3, 0) = hx;
-    H->template block<3, 3>(3, 3) = root.Ic.I;
-  }
 }
 }  // namespace detail
 
@@ -443,37 +390,34 @@ void rnea_derivatives(const FloatingModel<S, T>& model, FloatingData<S, T>& data
   detail::check_q(model, q, "rnea_derivatives");
   detail::check_v(model, v, "rnea_derivatives", "v");
   detail::check_v(model, a, "rnea_derivatives", "a");
-  detail::rnea_derivatives_impl(model, data, dd, q, v, a, fext, frame, static_cast<std::nullptr_t*>(nullptr));
+  detail::rnea_derivatives_impl(model, data, dd, q, v, a, fext, frame);
 }
 
 namespace detail {
-/// ∂q̈/∂τ = H⁻¹, ∂q̈/∂q = −H⁻¹ ∂τ/∂q, ∂q̈/∂v = −H⁻¹ ∂τ/∂v from the LTDL factor in `data.L`.
-template <class M, class D, class DD>
-void aba_derivatives_solve(const M& model, const D& data, DD& dd) {
-  // H⁻¹ is symmetric: solve on the columns of the identity. The others: solve Yᵀ = −Bᵀ H⁻¹ on columns, transpose.
-  dd.dqdd_dtau.setIdentity();
-  ltdl_solve_rows(model, data, [&](int k) { return dd.dqdd_dtau.col(k); });
-  dd.scratch = -dd.dtau_dq.transpose();
-  ltdl_solve_rows(model, data, [&](int k) { return dd.scratch.col(k); });
-  dd.dqdd_dq = dd.scratch.transpose();
-  dd.scratch = -dd.dtau_dv.transpose();
-  ltdl_solve_rows(model, data, [&](int k) { return dd.scratch.col(k); });
-  dd.dqdd_dv = dd.scratch.transpose();
+/// ∂q̈/∂τ = H⁻¹, ∂q̈/∂q = −H⁻¹ ∂τ/∂q, ∂q̈/∂v = −H⁻¹ ∂τ/∂v (two dense products; Eigen's blocked kernels).
+template <class DD, class M>
+void aba_derivatives_products(DD& dd, const M& Minv) {
+  dd.dqdd_dtau = Minv;
+  dd.dqdd_dq.noalias() = -Minv * dd.dtau_dq;
+  dd.dqdd_dv.noalias() = -Minv * dd.dtau_dv;
 }
 }  // namespace detail
 
-/// ∂q̈/∂q, ∂q̈/∂q̇ and ∂q̈/∂τ = H⁻¹ of q̈ = FD(q, q̇, τ, fext) into `dd` (n × n), and q̈ into `data.qdd`: q̈ by ABA,
-/// then RNEA's derivatives at (q, q̇, q̈) with H as their by-product (Hᵢⱼ = Sⱼ · Iᶜᵢ Sᵢ, into `data.H`), its
-/// tree-sparse LTDL factor, and ∂q̈/∂x = −H⁻¹ ∂τ/∂x.
+/// ∂q̈/∂q, ∂q̈/∂q̇ and ∂q̈/∂τ = H⁻¹ of q̈ = FD(q, q̇, τ, fext) into `dd` (n × n), and q̈ into `data.qdd`: H⁻¹ by
+/// `inverse_inertia` (into `dd.minv`), q̈ = H⁻¹ (τ − RNEA(q, q̇, 0, fext)), RNEA's derivatives at (q, q̇, q̈), and
+/// ∂q̈/∂x = −H⁻¹ ∂τ/∂x. `data.tau` holds τ on return (RNEA at q̈), `data.tmp` τ minus the bias forces.
 template <class S, class T, class Q, class QD, class Tau, class Ext = NoExternalForces>
 void aba_derivatives(const Model<S, T>& model, Data<S, T>& data, DerivativeData<S, T>& dd,
                      const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<QD>& qd,
                      const Eigen::MatrixBase<Tau>& tau, const Ext& fext = Ext(), ForceFrame frame = ForceFrame::Body) {
   detail::check_sizes(model, "aba_derivatives", "q", q, "qd", qd, "tau", tau);
-  aba(model, data, q, qd, tau, fext, frame);
-  detail::rnea_derivatives_impl(model, data, dd, q, qd, data.qdd, fext, frame, &data.H);
-  ltdl(model, data);
-  detail::aba_derivatives_solve(model, data, dd);
+  const auto& Minv = inverse_inertia(model, data, dd.minv, q);
+  data.qdd.setZero();
+  rnea(model, data, q, qd, data.qdd, fext, frame);
+  data.tmp = tau - data.tau;
+  data.qdd.noalias() = Minv * data.tmp;
+  detail::rnea_derivatives_impl(model, data, dd, q, qd, data.qdd, fext, frame);
+  detail::aba_derivatives_products(dd, Minv);
 }
 
 /// The floating-base version (nv × nv, tangent space), q̈ (nv) into `data.qdd`.
@@ -484,10 +428,13 @@ void aba_derivatives(const FloatingModel<S, T>& model, FloatingData<S, T>& data,
   detail::check_q(model, q, "aba_derivatives");
   detail::check_v(model, v, "aba_derivatives", "v");
   detail::check_v(model, tau, "aba_derivatives", "tau");
-  aba(model, data, q, v, tau, fext, frame);
-  detail::rnea_derivatives_impl(model, data, dd, q, v, data.qdd, fext, frame, &data.H);
-  ltdl(model, data);
-  detail::aba_derivatives_solve(model, data, dd);
+  const auto& Minv = inverse_inertia(model, data, dd.minv, q);
+  data.qdd.setZero();
+  rnea(model, data, q, v, data.qdd, fext, frame);
+  data.tmp = tau - data.tau;
+  data.qdd.noalias() = Minv * data.tmp;
+  detail::rnea_derivatives_impl(model, data, dd, q, v, data.qdd, fext, frame);
+  detail::aba_derivatives_products(dd, Minv);
 }
 
 // ---------------------------------------------------------------------------------------------------------------

@@ -105,20 +105,21 @@ void minv_articulated(const Model<S, T>& model, const Data<S, T>& data, Buffers&
 template <class S, class T, class Buffers, class RootForce>
 void minv_columns(const Model<S, T>& model, Buffers& md, int off, RootForce&& root_force) {
   auto& M = md.Minv;
-  for_each_body(model, [&](auto J) {
-    const int j = J;
+  // Plain loops over the bodies (also for compile-time trees: unrolled, the n columns' walks bloat the code and
+  // run slower than the loop).
+  for (int j = 0; j < model.size(); ++j) {
     const auto jk = static_cast<std::size_t>(j);
     const S dj = md.Dinv[jk];
     M(off + j, off + j) = dj;
     Force<S> f = md.U[jk] * dj;
-    walk_up(model, J, [&](auto, auto A) {
-      const auto ak = static_cast<std::size_t>(int(A));
+    for (int a = model.parent(j); a >= 0; a = model.parent(a)) {
+      const auto ak = static_cast<std::size_t>(a);
       const S m = -md.Dinv[ak] * dot(md.S0[ak], f);
-      M(off + j, off + int(A)) = m;
+      M(off + j, off + a) = m;
       f += md.U[ak] * m;
-    });
+    }
     root_force(j, f);
-  });
+  }
 }
 
 /// Pass 3 of the tree: rows `off + i`, columns c ≥ off + i + 1 (and, with a free-flying root, A of the root in
@@ -128,10 +129,9 @@ template <class S, class T, class Buffers, class RootBlock>
 void minv_rows(const Model<S, T>& model, Buffers& md, int off, const RootBlock* A_root) {
   auto& M = md.Minv;
   const int nv = static_cast<int>(M.cols());
-  for_each_body(model, [&](auto I) {
-    const int i = I;
+  for (int i = 0; i < model.size(); ++i) {  // a plain loop, as in minv_columns
     const auto k = static_cast<std::size_t>(i);
-    const int p = model.parent(I);
+    const int p = model.parent(i);
     const int r = off + i;
     auto& Ai = md.A[k];
     const Vector6<S> s = motion_col(md.S0[k]);
@@ -148,7 +148,7 @@ void minv_rows(const Model<S, T>& model, Buffers& md, int off, const RootBlock* 
     } else {
       for (int c = r; c < nv; ++c) Ai.col(c) = s * col[c];
     }
-  });
+  }
 }
 
 /// Upper triangle ← lower triangle.
