@@ -21,21 +21,7 @@
 #include <string>
 #include <vector>
 
-// As in test_derivatives.cpp: the compile-time-tree cases are left out of the sanitizer build, where unoptimised
-// and instrumented unrolled algorithms take too long and too much memory to compile; the run-time-tree cases run
-// the same per-body code there.
-#ifndef SPATIAL_TEST_COMPILE_TIME_TREES
-#if defined(__SANITIZE_ADDRESS__)
-#define SPATIAL_TEST_COMPILE_TIME_TREES 0
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define SPATIAL_TEST_COMPILE_TIME_TREES 0
-#endif
-#endif
-#endif
-#ifndef SPATIAL_TEST_COMPILE_TIME_TREES
-#define SPATIAL_TEST_COMPILE_TIME_TREES 1
-#endif
+#include "support/compile_time_trees.hpp"  // SPATIAL_TEST_COMPILE_TIME_TREES: 0 in the sanitizer build
 
 namespace {
 

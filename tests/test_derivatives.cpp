@@ -12,19 +12,7 @@
 #include <random>
 #include <vector>
 
-// The compile-time-tree cases unroll every algorithm over the HOAP-3's 21 and 27 coordinates; unoptimised and
-// instrumented (the sanitizer build) that one translation unit needs ~10 GB and minutes to compile. There the
-// run-time-tree cases, which run the same templates over the same per-body code, cover memory and UB checks.
-#if defined(__SANITIZE_ADDRESS__)
-#define SPATIAL_TEST_COMPILE_TIME_TREES 0
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define SPATIAL_TEST_COMPILE_TIME_TREES 0
-#endif
-#endif
-#ifndef SPATIAL_TEST_COMPILE_TIME_TREES
-#define SPATIAL_TEST_COMPILE_TIME_TREES 1
-#endif
+#include "support/compile_time_trees.hpp"  // SPATIAL_TEST_COMPILE_TIME_TREES: 0 in the sanitizer build
 
 namespace {
 

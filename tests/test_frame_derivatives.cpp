@@ -13,17 +13,7 @@
 #include <random>
 #include <string>
 
-// As in test_derivatives.cpp: the compile-time-tree case is too heavy for the unoptimised sanitizer build.
-#if defined(__SANITIZE_ADDRESS__)
-#define SPATIAL_TEST_COMPILE_TIME_TREES 0
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define SPATIAL_TEST_COMPILE_TIME_TREES 0
-#endif
-#endif
-#ifndef SPATIAL_TEST_COMPILE_TIME_TREES
-#define SPATIAL_TEST_COMPILE_TIME_TREES 1
-#endif
+#include "support/compile_time_trees.hpp"  // SPATIAL_TEST_COMPILE_TIME_TREES: 0 in the sanitizer build
 
 namespace {
 

@@ -12,17 +12,7 @@
 
 #include <random>
 
-// As in test_derivatives.cpp: the compile-time-tree cases are too heavy to compile unoptimised and instrumented.
-#if defined(__SANITIZE_ADDRESS__)
-#define SPATIAL_TEST_COMPILE_TIME_TREES 0
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define SPATIAL_TEST_COMPILE_TIME_TREES 0
-#endif
-#endif
-#ifndef SPATIAL_TEST_COMPILE_TIME_TREES
-#define SPATIAL_TEST_COMPILE_TIME_TREES 1
-#endif
+#include "support/compile_time_trees.hpp"  // SPATIAL_TEST_COMPILE_TIME_TREES: 0 in the sanitizer build
 
 namespace {
 
