@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Builds and runs every test.
-#   1. Release build (preset "release", build/): all tests, including the packaging test.
+#   1. Release build (preset "release", build/): all tests, including the packaging test. Both builds make only the
+#      target spatial_test_programs (the test executables and the tools they run), not the benchmarks and the iLQR
+#      example: scripts/main.sh builds and runs those.
 #   2. Debug build with ASan + UBSan (preset "asan", build-asan/; -g1: line tables only, enough for the sanitizers'
 #      stack traces and a fifth less compile time than -g): the unit, AVX2-kernel and stress tests (tests/CMakeLists.txt).
 #   3. The URDF loader's fuzz target (scripts/fuzz.sh, clang + libFuzzer + ASan/UBSan, build-fuzz/) for 60 s.
@@ -23,8 +25,9 @@ bash scripts/deps.sh
 
 echo "==== release build and tests ===="
 cmake --preset release
-cmake --build --preset release --parallel "$jobs"
+cmake --build --preset release --parallel "$jobs" --target spatial_test_programs
 ctest --test-dir build --output-on-failure --no-tests=error -j "$jobs"
+echo "test.sh: release stage done at ${SECONDS} s"
 
 if [[ $quick -eq 1 ]]; then
   echo "test.sh: --quick given, sanitizer build and fuzzer skipped"
@@ -33,11 +36,12 @@ fi
 
 echo "==== sanitizer (ASan + UBSan) build and tests ===="
 cmake --preset asan
-cmake --build --preset asan --parallel "$jobs"
+cmake --build --preset asan --parallel "$jobs" --target spatial_test_programs
 UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1} \
   ctest --test-dir build-asan --output-on-failure --no-tests=error -j "$jobs" -LE package
+echo "test.sh: sanitizer stage done at ${SECONDS} s"
 
 echo "==== fuzzing the URDF loader (60 s) ===="
 bash scripts/fuzz.sh 60
 
-echo "test.sh: all tests passed"
+echo "test.sh: all tests passed (${SECONDS} s)"
