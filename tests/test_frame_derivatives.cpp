@@ -40,21 +40,9 @@ std::vector<spatial::testing::RandomBody> bodies_of(int n, Shape shape, unsigned
   return spatial::testing::random_bodies(n, shape, seed);
 }
 
-/// Random bodies as a model with frames on the base (root), the last body and a middle body.
+/// Random bodies as a model with frames 0, 1, 2 on the base (root), the last body and a middle body.
 Model<double> with_frames(const std::vector<spatial::testing::RandomBody>& bodies, unsigned seed) {
-  ModelBuilder<double> b;
-  for (std::size_t i = 0; i < bodies.size(); ++i) {
-    const auto& r = bodies[i];
-    b.add_body("body" + std::to_string(i), r.parent, r.type, r.X_tree,
-               Inertia<double>::from_com(r.mass, r.com, r.inertia_com), r.axis, "joint" + std::to_string(i));
-  }
-  std::mt19937 rng(seed + 99);
-  const int n = static_cast<int>(bodies.size());
-  const Inertia<double> none = Inertia<double>::Zero();
-  for (int body : {-1, n - 1, n / 2})
-    b.add_fixed_body("frame_on_" + std::to_string(body), body,
-                     Transform<double>(spatial::testing::random_rotation(rng), random_vector(3, rng, 0.4)), none);
-  return b.build();
+  return spatial::testing::build_model_with_frames(bodies, seed);
 }
 
 const char* name(ReferenceFrame rf) {

@@ -570,17 +570,20 @@ void ltdl(const Model<S, T>& model, Data<S, T>& data) {
   });
 }
 
-/// Solves H x = b in place (x holds b on entry) with the factor from `ltdl` (RBDA Table 6.4):
-/// x ← L⁻ᵀ x, x ← D⁻¹ x, x ← L⁻¹ x.
+namespace detail {
+/// The two halves of `ltdl_solve`: x ← L⁻ᵀ x, and x ← L⁻¹ D⁻¹ x (so H⁻¹ = L⁻¹ D⁻¹ L⁻ᵀ; contact.hpp uses them apart).
 template <class S, class T, class X>
-void ltdl_solve(const Model<S, T>& model, const Data<S, T>& data, Eigen::MatrixBase<X>& x) {
-  detail::check_sizes(model, "ltdl_solve", "x", x);
+void ltdl_solve_lt(const Model<S, T>& model, const Data<S, T>& data, Eigen::MatrixBase<X>& x) {
   const auto& L = data.L;
   for_each_body_reverse(model, [&](auto I) {
     const int i = I;
     const S xi = x[i];
     walk_up(model, I, [&](auto, auto J) { x[int(J)] -= L(i, int(J)) * xi; });
   });
+}
+template <class S, class T, class X>
+void ltdl_solve_dl(const Model<S, T>& model, const Data<S, T>& data, Eigen::MatrixBase<X>& x) {
+  const auto& L = data.L;
   for_each_body(model, [&](auto I) { x[int(I)] /= L(int(I), int(I)); });
   for_each_body(model, [&](auto I) {
     const int i = I;
@@ -588,6 +591,16 @@ void ltdl_solve(const Model<S, T>& model, const Data<S, T>& data, Eigen::MatrixB
     walk_up(model, I, [&](auto, auto J) { xi -= L(i, int(J)) * x[int(J)]; });
     x[i] = xi;
   });
+}
+}  // namespace detail
+
+/// Solves H x = b in place (x holds b on entry) with the factor from `ltdl` (RBDA Table 6.4):
+/// x ← L⁻ᵀ x, x ← D⁻¹ x, x ← L⁻¹ x.
+template <class S, class T, class X>
+void ltdl_solve(const Model<S, T>& model, const Data<S, T>& data, Eigen::MatrixBase<X>& x) {
+  detail::check_sizes(model, "ltdl_solve", "x", x);
+  detail::ltdl_solve_lt(model, data, x);
+  detail::ltdl_solve_dl(model, data, x);
 }
 
 namespace detail {

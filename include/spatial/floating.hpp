@@ -691,13 +691,13 @@ void ltdl(const FloatingModel<S, T>& model, FloatingData<S, T>& data) {
   }
 }
 
-/// Solves H x = b in place with the factor from `ltdl` (x holds b on entry).
+namespace detail {
+/// The two halves of `ltdl_solve`: x ← L⁻ᵀ x (rows from the last), and x ← D⁻¹ x then x ← L⁻¹ x (rows from the
+/// first); contact.hpp uses them apart.
 template <class S, class T, class X>
-void ltdl_solve(const FloatingModel<S, T>& model, const FloatingData<S, T>& data, Eigen::MatrixBase<X>& x) {
-  detail::check_v(model, x, "ltdl_solve", "x");
+void ltdl_solve_lt(const FloatingModel<S, T>& model, const FloatingData<S, T>& data, Eigen::MatrixBase<X>& x) {
   const auto& tree = model.tree();
   const auto& L = data.L;
-  // x ← L⁻ᵀ x (rows from the last), x ← D⁻¹ x, x ← L⁻¹ x (rows from the first).
   for_each_body_reverse(tree, [&](auto I) {
     const int i = 6 + int(I);
     const S xi = x[i];
@@ -706,6 +706,11 @@ void ltdl_solve(const FloatingModel<S, T>& model, const FloatingData<S, T>& data
   });
   for (int i = 5; i >= 0; --i)
     for (int c = 0; c < i; ++c) x[c] -= L(i, c) * x[i];
+}
+template <class S, class T, class X>
+void ltdl_solve_dl(const FloatingModel<S, T>& model, const FloatingData<S, T>& data, Eigen::MatrixBase<X>& x) {
+  const auto& tree = model.tree();
+  const auto& L = data.L;
   for (int i = 0; i < model.nv(); ++i) x[i] /= L(i, i);
   for (int i = 0; i < 6; ++i)
     for (int c = 0; c < i; ++c) x[i] -= L(i, c) * x[c];
@@ -716,6 +721,15 @@ void ltdl_solve(const FloatingModel<S, T>& model, const FloatingData<S, T>& data
     for (int c = 0; c < 6; ++c) xi -= L(i, c) * x[c];
     x[i] = xi;
   });
+}
+}  // namespace detail
+
+/// Solves H x = b in place with the factor from `ltdl` (x holds b on entry).
+template <class S, class T, class X>
+void ltdl_solve(const FloatingModel<S, T>& model, const FloatingData<S, T>& data, Eigen::MatrixBase<X>& x) {
+  detail::check_v(model, x, "ltdl_solve", "x");
+  detail::ltdl_solve_lt(model, data, x);
+  detail::ltdl_solve_dl(model, data, x);
 }
 
 /// Forward dynamics of a floating-base tree by CRBA and the tree-sparse LTDL: v̇ = H⁻¹ (τ − C(q, v)) (nv entries;

@@ -73,14 +73,38 @@ inline std::vector<RandomBody> random_bodies(int n, Shape shape, unsigned seed, 
   return out;
 }
 
-/// A run-time model from random bodies; bodies are named "body<i>", joints "joint<i>".
-inline Model<double> build_model(const std::vector<RandomBody>& bodies, const Vector3<double>& gravity = {0, 0, -9.81}) {
-  ModelBuilder<double> b;
-  b.set_gravity(gravity);
+/// Adds random bodies to a builder; bodies are named "body<i>", joints "joint<i>".
+inline void add_bodies(ModelBuilder<double>& b, const std::vector<RandomBody>& bodies) {
   for (std::size_t i = 0; i < bodies.size(); ++i) {
     const RandomBody& r = bodies[i];
     b.add_body("body" + std::to_string(i), r.parent, r.type, r.X_tree,
                Inertia<double>::from_com(r.mass, r.com, r.inertia_com), r.axis, "joint" + std::to_string(i));
+  }
+}
+
+/// A run-time model from random bodies (`add_bodies`).
+inline Model<double> build_model(const std::vector<RandomBody>& bodies, const Vector3<double>& gravity = {0, 0, -9.81}) {
+  ModelBuilder<double> b;
+  b.set_gravity(gravity);
+  add_bodies(b, bodies);
+  return b.build();
+}
+
+/// The same with three massless frames "frame_on_<body>" at random placements (within 0.4 of the body's origin) on
+/// the base (root), the last body and a middle body: frames 0, 1, 2.
+inline Model<double> build_model_with_frames(const std::vector<RandomBody>& bodies, unsigned seed,
+                                             const Vector3<double>& gravity = {0, 0, -9.81}) {
+  ModelBuilder<double> b;
+  b.set_gravity(gravity);
+  add_bodies(b, bodies);
+  std::mt19937 rng(seed + 99);
+  std::uniform_real_distribution<double> u(-0.4, 0.4);
+  const int n = static_cast<int>(bodies.size());
+  for (int body : {-1, n - 1, n / 2}) {
+    const Matrix3<double> E = random_rotation(rng);
+    Vector3<double> r;
+    for (int k = 0; k < 3; ++k) r[k] = u(rng);
+    b.add_fixed_body("frame_on_" + std::to_string(body), body, Transform<double>(E, r), Inertia<double>::Zero());
   }
   return b.build();
 }
