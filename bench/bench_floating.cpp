@@ -8,6 +8,9 @@
 // IK_FeetCoM: inverse kinematics (ik.hpp) of both soles' poses and the centre of mass (15 rows, joint limits on)
 // to 1e-12, targets from forward kinematics of a pool state, started from that state perturbed by 0.05 × a pool
 // velocity on the manifold (one whole solve per call).
+// Contacts (contact.hpp): ContactDynamics_6D (the left sole welded), ContactDynamics_2x6D (both soles) by
+// constrained_forward_dynamics, ImpulseDynamics_2x6D (both soles, inelastic) by impulse_dynamics; τ from the pool,
+// its root wrench zeroed; bench_pinocchio times constraintDynamics / impulseDynamics on the same states.
 #include "bench_common.hpp"
 #include "bench_derivatives.hpp"
 #include "bench_floating.hpp"
@@ -129,6 +132,44 @@ void register_ik(const std::string& tree, const FloatingModel<S, TreeT>& model) 
   });
 }
 
+/// Contact dynamics on the soles: one ContactData per contact set.
+template <class S, class TreeT>
+struct ContactFixture {
+  using FM = FloatingModel<S, TreeT>;
+  FM model;
+  FloatingData<S, TreeT> data;
+  FloatingPool<S, FM::NQ, FM::NV> pool;
+  ContactData<FM> left, feet;
+  explicit ContactFixture(const FM& m)
+      : model(m), data(model), pool(floating_pool().template cast<S, FM::NQ, FM::NV>()),
+        left(model, {contact_6d<S>(frame("L_SOLE"))}),
+        feet(model, {contact_6d<S>(frame("L_SOLE")), contact_6d<S>(frame("R_SOLE"))}) {
+    for (auto& u : pool.u) u.template head<6>().setZero();
+  }
+  static int frame(const char* name) { return models::hoap3_floating::frame_index(name); }
+};
+
+template <class S, class TreeT>
+void register_contacts(const std::string& tree, const FloatingModel<S, TreeT>& model) {
+  using Fx = ContactFixture<S, TreeT>;
+  auto fx = std::make_shared<Fx>(model);
+  const auto name = [&](const char* algorithm) {
+    return bench_name("spatial", algorithm, "floating27", scalar_name<S>(), tree);
+  };
+  const auto at = [](const auto& v, int k) -> const auto& { return v[static_cast<std::size_t>(k)]; };
+  register_one(name("ContactDynamics_6D"), fx, [at](Fx& f, int k) {
+    benchmark::DoNotOptimize(
+        constrained_forward_dynamics(f.model, f.data, f.left, at(f.pool.q, k), at(f.pool.v, k), at(f.pool.u, k)).data());
+  });
+  register_one(name("ContactDynamics_2x6D"), fx, [at](Fx& f, int k) {
+    benchmark::DoNotOptimize(
+        constrained_forward_dynamics(f.model, f.data, f.feet, at(f.pool.q, k), at(f.pool.v, k), at(f.pool.u, k)).data());
+  });
+  register_one(name("ImpulseDynamics_2x6D"), fx, [at](Fx& f, int k) {
+    benchmark::DoNotOptimize(impulse_dynamics(f.model, f.data, f.feet, at(f.pool.q, k), at(f.pool.v, k)).data());
+  });
+}
+
 const bool registered = [] {
   add_build_context();
   register_floating<double>("static", floating27());
@@ -144,6 +185,8 @@ const bool registered = [] {
   derivatives("runtime", floating27().to_runtime());
   register_ik<double>("static", floating27());
   register_ik<double>("runtime", floating27().to_runtime());
+  register_contacts<double>("static", floating27());
+  register_contacts<double>("runtime", floating27().to_runtime());
   return true;
 }();
 

@@ -17,6 +17,10 @@
 #include <spatial/derivatives.hpp>
 #include <spatial/minv.hpp>
 
+// constraintDynamics and impulseDynamics are marked "unsupported" (their API may change): no warning for using them.
+#define PINOCCHIO_DISABLE_UNSUPPORTED_WARNINGS
+#include <pinocchio/algorithm/constrained-dynamics.hpp>
+#include <pinocchio/algorithm/impulse-dynamics.hpp>
 #include <pinocchio/algorithm/aba-derivatives.hpp>
 #include <pinocchio/algorithm/aba.hpp>
 #include <pinocchio/algorithm/center-of-mass.hpp>
@@ -224,10 +228,30 @@ struct FloatingPinFixture {
   std::vector<Eigen::VectorXd> q, v, u;  // in Pinocchio's order
   pinocchio::Data::Matrix6x J;            // frame Jacobian output
   pinocchio::FrameIndex frame = 0;        // the left sole (bench_floating.hpp's floating27_frame)
+  // Contacts (bench_floating's ContactDynamics_*): the left sole welded, both soles welded (6D, LOCAL); one data
+  // per set (initConstraintDynamics sizes it); τ = u with a zero root wrench.
+  PINOCCHIO_ALIGNED_STD_VECTOR(pinocchio::RigidConstraintModel) left_c, feet_c;
+  PINOCCHIO_ALIGNED_STD_VECTOR(pinocchio::RigidConstraintData) left_d, feet_d;
+  pinocchio::DataTpl<double> data_left, data_feet;
+  pinocchio::ProximalSettings prox;
+  std::vector<Eigen::VectorXd> tau;
   int next = 0;
   explicit FloatingPinFixture(FloatingPinocchioPeer<double> p)
-      : peer(std::move(p)), data(peer.tree.model), J(6, peer.tree.model.nv) {
+      : peer(std::move(p)), data(peer.tree.model), J(6, peer.tree.model.nv), data_left(peer.tree.model),
+        data_feet(peer.tree.model) {
     J.setZero();
+    const auto& pm = peer.tree.model;
+    const auto weld = [&](const char* name) {
+      const pinocchio::Frame& f = pm.frames[pm.getFrameId(name)];
+      return pinocchio::RigidConstraintModel(pinocchio::CONTACT_6D, pm, f.parentJoint, f.placement, pinocchio::LOCAL);
+    };
+    left_c.push_back(weld("L_SOLE"));
+    feet_c.push_back(weld("L_SOLE"));
+    feet_c.push_back(weld("R_SOLE"));
+    for (const auto& c : left_c) left_d.emplace_back(c);
+    for (const auto& c : feet_c) feet_d.emplace_back(c);
+    pinocchio::initConstraintDynamics(pm, data_left, left_c, left_d);
+    pinocchio::initConstraintDynamics(pm, data_feet, feet_c, feet_d);
   }
   int take() {
     next = next + 1 == static_cast<int>(q.size()) ? 0 : next + 1;
@@ -244,6 +268,9 @@ void register_pinocchio_floating() {
     fx->q.push_back(fx->peer.to_pinocchio(pool.q[s], 7));
     fx->v.push_back(fx->peer.to_pinocchio(pool.v[s], 6));
     fx->u.push_back(fx->peer.to_pinocchio(pool.u[s], 6));
+    Eigen::VectorXd t = pool.u[s];
+    t.head(6).setZero();
+    fx->tau.push_back(fx->peer.to_pinocchio(t, 6));
   }
   const auto& pm = fx->peer.tree.model;
   const int frame = floating27_frame();
@@ -257,7 +284,14 @@ void register_pinocchio_floating() {
       jac{"Pinocchio getFrameJacobian L_SOLE LOCAL/WORLD/LOCAL_WORLD_ALIGNED (double) on floating27", 1e-12},
       cjac{"Pinocchio computeFrameJacobian L_SOLE LOCAL/WORLD/LOCAL_WORLD_ALIGNED (double) on floating27", 1e-12},
       jcom{"Pinocchio jacobianCenterOfMass (double) on floating27", 1e-12},
-      ag{"Pinocchio ccrba A_G (double) on floating27", 1e-12};
+      ag{"Pinocchio ccrba A_G (double) on floating27", 1e-12},
+      cfd{"Pinocchio constraintDynamics L_SOLE / both soles 6D LOCAL ddq (double) on floating27", 1e-10},
+      clam{"Pinocchio constraintDynamics L_SOLE / both soles 6D LOCAL lambda_c (double) on floating27", 1e-10},
+      imp{"Pinocchio impulseDynamics both soles 6D LOCAL dq_after (double) on floating27", 1e-10},
+      ilam{"Pinocchio impulseDynamics both soles 6D LOCAL impulse_c (double) on floating27", 1e-10};
+  ContactData<std::decay_t<decltype(model)>> left(model, {contact_6d(models::hoap3_floating::frame_index("L_SOLE"))}),
+      feet(model, {contact_6d(models::hoap3_floating::frame_index("L_SOLE")),
+                   contact_6d(models::hoap3_floating::frame_index("R_SOLE"))});
   const char* const rf_names[3] = {"LOCAL", "WORLD", "LOCAL_WORLD_ALIGNED"};
   const char* const partials[5] = {"v_partial_dq", "a_partial_dq", "a_partial_dv", "a_partial_da", "v_partial_dv"};
   std::vector<PeerCheck> fkd;
@@ -304,6 +338,21 @@ void register_pinocchio_floating() {
     jcom.compare(fx->peer.from_pinocchio_columns(pinocchio::jacobianCenterOfMass(pm, fx->data, fx->q[s])), Jc);
     centroidal_momentum_matrix(model, data, q, Ag);
     ag.compare(fx->peer.from_pinocchio_columns(pinocchio::ccrba(pm, fx->data, fx->q[s], fx->v[s])), Ag);
+    // Contacts: the same τ (zero root wrench), no Baumgarte terms, no proximal damping.
+    VV t = u;
+    t.head<6>().setZero();
+    cfd.compare(fx->peer.from_pinocchio(pinocchio::constraintDynamics(pm, fx->data_left, fx->q[s], fx->v[s], fx->tau[s],
+                                                                      fx->left_c, fx->left_d, fx->prox)),
+                constrained_forward_dynamics(model, data, left, q, v, t));
+    clam.compare(Eigen::VectorXd(fx->data_left.lambda_c), left.lambda);
+    cfd.compare(fx->peer.from_pinocchio(pinocchio::constraintDynamics(pm, fx->data_feet, fx->q[s], fx->v[s], fx->tau[s],
+                                                                      fx->feet_c, fx->feet_d, fx->prox)),
+                constrained_forward_dynamics(model, data, feet, q, v, t));
+    clam.compare(Eigen::VectorXd(fx->data_feet.lambda_c), feet.lambda);
+    imp.compare(fx->peer.from_pinocchio(pinocchio::impulseDynamics(pm, fx->data_feet, fx->q[s], fx->v[s], fx->feet_c,
+                                                                   fx->feet_d, 0.0, fx->prox)),
+                impulse_dynamics(model, data, feet, q, v));
+    ilam.compare(Eigen::VectorXd(fx->data_feet.impulse_c), feet.lambda);
     // Frame velocity and acceleration derivatives (the state's u as the acceleration).
     pinocchio::computeForwardKinematicsDerivatives(pm, fx->data, fx->q[s], fx->v[s], fx->u[s]);
     for (std::size_t f = 0; f < 3; ++f) {
@@ -323,7 +372,7 @@ void register_pinocchio_floating() {
           fkd[5 * f + m].compare(fx->peer.from_pinocchio_columns(p[m]), *ours[m]);
     }
   }
-  for (const PeerCheck* c : {&tau, &mass, &fd, &jac, &cjac, &jcom, &ag}) c->report();
+  for (const PeerCheck* c : {&tau, &mass, &fd, &jac, &cjac, &jcom, &ag, &cfd, &clam, &imp, &ilam}) c->report();
   for (std::size_t k = 0; k < fkd.size(); ++k)
     if (k != 10 && k != 11) fkd[k].report();  // LOCAL_WORLD_ALIGNED v_partial_dq, a_partial_dq: see above
   check_derivatives(fx->peer, fx->data, fx->q, fx->v, fx->u, model, pool.q, pool.v, pool.u, "floating27");
@@ -379,6 +428,18 @@ void register_pinocchio_floating() {
   });
   reg("CentroidalMatrix", [](Fx& f, std::size_t k) {
     benchmark::DoNotOptimize(pinocchio::ccrba(f.peer.tree.model, f.data, f.q[k], f.v[k]).data());
+  });
+  reg("ContactDynamics_6D", [](Fx& f, std::size_t k) {
+    benchmark::DoNotOptimize(pinocchio::constraintDynamics(f.peer.tree.model, f.data_left, f.q[k], f.v[k], f.tau[k],
+                                                           f.left_c, f.left_d, f.prox).data());
+  });
+  reg("ContactDynamics_2x6D", [](Fx& f, std::size_t k) {
+    benchmark::DoNotOptimize(pinocchio::constraintDynamics(f.peer.tree.model, f.data_feet, f.q[k], f.v[k], f.tau[k],
+                                                           f.feet_c, f.feet_d, f.prox).data());
+  });
+  reg("ImpulseDynamics_2x6D", [](Fx& f, std::size_t k) {
+    benchmark::DoNotOptimize(pinocchio::impulseDynamics(f.peer.tree.model, f.data_feet, f.q[k], f.v[k], f.feet_c,
+                                                        f.feet_d, 0.0, f.prox).data());
   });
 }
 

@@ -1,4 +1,5 @@
-// constrained_forward_dynamics and impulse_dynamics (contact.hpp) never allocate once their ContactData is built:
+// constrained_forward_dynamics, impulse_dynamics, contact_inverse_dynamics (contact.hpp) and the ZMP and CoP
+// (zmp.hpp) never allocate once their ContactData is built:
 // calls on the HOAP-3's floating model (compile-time and run-time trees, both feet welded, then point contacts) and
 // on a fixed-base run-time chain with an end-effector constraint, inside the guarded region. Guarded by Eigen's
 // run-time check and by the counting global operator new of nomalloc_algorithms.cpp (same executable).
@@ -12,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <type_traits>
 #include <vector>
 
 namespace {
@@ -34,6 +36,12 @@ void exercise(const M& model, D& data, ContactData<M>& cd, const Q& q, const V& 
   constrained_forward_dynamics(model, data, cd, q, v, tau);
   g_sink = g_sink + cd.qdd.sum();
   EXPECT_TRUE(cd.ok);
+  g_sink = g_sink + center_of_pressure(model, data, cd).sum() + multibody_zmp(model, data, q, v, cd.qdd).sum();
+  if constexpr (std::is_same_v<M, FloatingModel<typename M::Scalar, typename M::tree_type>>) {
+    for (auto& c : cd.contacts) c.sole_x_min = -0.05, c.sole_x_max = 0.05, c.sole_y_min = -0.03, c.sole_y_max = 0.03;
+    contact_inverse_dynamics(model, data, cd, q, v, cd.qdd);
+    g_sink = g_sink + cd.tau.sum() + cd.lambda.sum();
+  }
   EXPECT_EQ(guard.new_calls(), 0);
 }
 

@@ -2,7 +2,9 @@
 // from independent parts (CRBA's H, the one-walk frame Jacobians of compute_frame_jacobian, the drift of
 // frame_jdot_qdot / frame_classical_jdot_qdot, RNEA's bias), the round trip through RNEA (H v̇ + C = τ + Jᵀλ), the
 // frames' accelerations after forward kinematics with the result (= the Baumgarte terms), the impact laws (J v⁺ =
-// −e J v⁻, no energy gained), damped redundant contacts, float, the HOAP-3's two feet, and bad input.
+// −e J v⁻, no energy gained), damped redundant contacts, float, the HOAP-3's two feet, and bad input; whole-body
+// inverse dynamics with contacts (the physical split: cones, soles, the known split of a symmetric stance, the
+// round trip through constrained forward dynamics); the multibody ZMP against the CoP of the contact forces.
 
 #include <spatial/spatial.hpp>
 #include <spatial/models/hoap3_floating.hpp>
@@ -10,6 +12,8 @@
 #include "support/random_model.hpp"
 
 #include <gtest/gtest.h>
+
+#include <Eigen/SVD>
 
 #include <random>
 #include <string>
@@ -333,6 +337,155 @@ TEST(Contact, BadContactsAreRefusedByName) {
   // Unnamed contacts take their frame's name.
   ContactData<FloatingModel<double>> cd(model, {contact_3d(1)});
   EXPECT_EQ(cd.contacts[0].name, "frame_on_4");
+}
+
+// ---- whole-body inverse dynamics with contacts, ZMP and CoP ----------------------------------------------------
+
+/// The HOAP-3's soles as 6D contacts with the data sheet's sole rectangle (108 × 73 mm; here centred on the sole
+/// frame's origin, which is what the split needs to be checked against) and μ = 0.6, forces in world axes.
+std::vector<RigidContact<double>> hoap3_feet(const FloatingModel<double>& rt, bool left = true, bool right = true) {
+  std::vector<RigidContact<double>> feet;
+  for (const char* name : {"L_SOLE", "R_SOLE"}) {
+    if ((name[0] == 'L' && !left) || (name[0] == 'R' && !right)) continue;
+    RigidContact<double> c = contact_6d(rt.frame_index(name), ReferenceFrame::Local);
+    c.sole_x_min = -0.054, c.sole_x_max = 0.054, c.sole_y_min = -0.0365, c.sole_y_max = 0.0365;
+    c.friction = 0.6;
+    feet.push_back(c);
+  }
+  return feet;
+}
+
+/// A v̇ that respects the contacts at (q, v = 0): a random vector projected on the null space of J.
+Vec consistent_acceleration(const Mat& J, std::mt19937& rng, double scale) {
+  const Vec x = random_vector(static_cast<int>(J.cols()), rng, scale);
+  Eigen::JacobiSVD<Mat> svd(J, Eigen::ComputeFullV);
+  const Mat V = svd.matrixV();
+  const int r = static_cast<int>(svd.rank());
+  const Mat N = V.rightCols(J.cols() - r);
+  return N * (N.transpose() * x);
+}
+
+/// Every contact force of cd (Local axes) inside its cone: f_z ≥ 0, |f_x|, |f_y| ≤ μ f_z, CoP inside the sole.
+void expect_physical(const ContactData<FloatingModel<double>>& cd, double tol) {
+  int r = 0;
+  for (const auto& c : cd.contacts) {
+    const auto w = cd.lambda.segment<6>(r);
+    SCOPED_TRACE(c.name + " wrench " + ::testing::PrintToString(Vec(w).transpose()));
+    EXPECT_GE(w[2], -tol);
+    EXPECT_LE(std::abs(w[0]), c.friction * w[2] + tol);
+    EXPECT_LE(std::abs(w[1]), c.friction * w[2] + tol);
+    const double cop_x = -w[4] / w[2], cop_y = w[3] / w[2];
+    EXPECT_GE(cop_x, c.sole_x_min - 1e-9);
+    EXPECT_LE(cop_x, c.sole_x_max + 1e-9);
+    EXPECT_GE(cop_y, c.sole_y_min - 1e-9);
+    EXPECT_LE(cop_y, c.sole_y_max + 1e-9);
+    r += 6;
+  }
+}
+
+TEST(ContactInverseDynamics, Hoap3OnBothFeetRoundTripThroughForwardDynamics) {
+  // Standing (q neutral: both soles flat at the same height), at rest, accelerations that keep the feet still:
+  // the split must be physical, the root's wrench supplied exactly, and constrained forward dynamics with the
+  // torques found must give back the same v̇ and the same contact forces (the KKT solution is unique).
+  const auto rt = models::hoap3_floating::floating_model<double>().to_runtime();
+  FloatingData<double> data(rt);
+  ContactData<FloatingModel<double>> cd(rt, hoap3_feet(rt)), fd(rt, hoap3_feet(rt));
+  const Vec q = neutral(rt), v = Vec::Zero(rt.nv());
+  std::mt19937 rng(12);
+  Mat J = Mat::Zero(12, rt.nv());
+  int solved = 0;
+  for (int k = 0; k < 20; ++k) {
+    constrained_forward_dynamics(rt, data, fd, q, v, Vec::Zero(rt.nv()));  // only for J at q
+    J = fd.J;
+    const Vec a = consistent_acceleration(J, rng, k == 0 ? 0.0 : 0.3);
+    contact_inverse_dynamics(rt, data, cd, q, v, a);
+    if (!cd.ok) continue;  // a random acceleration may need a pulling foot
+    ++solved;
+    const double scale = rt.total_mass() * 9.81;
+    EXPECT_LT(cd.tau.head<6>().norm(), 1e-10 * scale);
+    expect_physical(cd, 1e-9 * scale);
+    // RNEA = Sᵀτ + Jᵀλ.
+    Vec st = cd.tau;
+    st.head<6>().setZero();
+    EXPECT_LT(rel_err(rnea(rt, data, q, v, a), st + J.transpose() * cd.lambda), 1e-12);
+    // Round trip.
+    constrained_forward_dynamics(rt, data, fd, q, v, st);
+    EXPECT_LT(rel_err(fd.qdd, a), 1e-9);
+    EXPECT_LT(rel_err(fd.lambda, cd.lambda), 1e-9);
+    // The multibody ZMP is the CoP of the contact forces (ground plane at the soles' height).
+    const double h = frame_pose(rt, data, rt.frame_index("L_SOLE")).translation().z();
+    const Vector3<double> zmp = multibody_zmp(rt, data, q, v, a, h);
+    EXPECT_LT((zmp - center_of_pressure(rt, data, cd, h)).norm(), 1e-12) << zmp.transpose();
+  }
+  EXPECT_GE(solved, 10);
+}
+
+TEST(ContactInverseDynamics, SymmetricStanceSplitsTheWeightEvenly) {
+  // One rigid box (mass 2, CoM at the root origin) standing on two soles 0.2 m apart, 0.3 m below the CoM, at rest:
+  // by symmetry each sole carries m g / 2 with its centre of pressure at its centre and no tangential force.
+  ModelBuilder<double> b;
+  b.add_fixed_body("left", -1, Transform<double>(Matrix3<double>::Identity(), Vector3<double>(0, 0.1, -0.3)),
+                   Inertia<double>::Zero());
+  b.add_fixed_body("right", -1, Transform<double>(Matrix3<double>::Identity(), Vector3<double>(0, -0.1, -0.3)),
+                   Inertia<double>::Zero());
+  const FloatingModel<double> box(b.build(), Inertia<double>::from_com(2.0, Vector3<double>::Zero(),
+                                                                       Vector3<double>(0.02, 0.03, 0.04).asDiagonal()),
+                                  "box");
+  std::vector<RigidContact<double>> soles{contact_6d(0), contact_6d(1)};
+  for (auto& c : soles) c.sole_x_min = -0.05, c.sole_x_max = 0.05, c.sole_y_min = -0.03, c.sole_y_max = 0.03;
+  FloatingData<double> data(box);
+  ContactData<FloatingModel<double>> cd(box, soles);
+  const Vec q = neutral(box), zero = Vec::Zero(6);
+  contact_inverse_dynamics(box, data, cd, q, zero, zero);
+  ASSERT_TRUE(cd.ok);
+  Vec half(6);
+  half << 0, 0, 2.0 * 9.81 / 2, 0, 0, 0;
+  EXPECT_LT((cd.lambda.head(6) - half).norm(), 1e-12) << cd.lambda.transpose();
+  EXPECT_LT((cd.lambda.tail(6) - half).norm(), 1e-12) << cd.lambda.transpose();
+  // The box accelerating sideways at 0.5 g: the ZMP moves 0.15 m towards the rear of the motion, beyond the
+  // soles' outer edges (0.13 m) — no physical split exists.
+  Vec a = Vec::Zero(6);
+  a[1] = 0.5 * 9.81;
+  contact_inverse_dynamics(box, data, cd, q, zero, a);
+  EXPECT_FALSE(cd.ok);
+  EXPECT_GT(cd.tau.head<6>().norm(), 1e-3);
+  // At 0.3 g (ZMP 0.09 m off centre, inside the right sole) it exists again, and the left foot is nearly unloaded.
+  a[1] = 0.3 * 9.81;
+  contact_inverse_dynamics(box, data, cd, q, zero, a);
+  ASSERT_TRUE(cd.ok);
+  EXPECT_LT(cd.tau.head<6>().norm(), 1e-12);
+  expect_physical(cd, 1e-12);
+  EXPECT_LT((multibody_zmp(box, data, q, zero, a, -0.3) - center_of_pressure(box, data, cd, -0.3)).norm(), 1e-12);
+}
+
+TEST(Zmp, MultibodyZmpIsTheCopOfTheContactForcesInSingleAndDoubleSupport) {
+  // Constrained forward dynamics on one foot and on both, from random states and torques: whatever the forces
+  // (pulling or not), the ZMP of the motion computed by RNEA is the CoP of the contact forces.
+  const auto rt = models::hoap3_floating::floating_model<double>().to_runtime();
+  FloatingData<double> data(rt);
+  std::mt19937 rng(13);
+  const int n = rt.njoints();
+  for (bool both : {false, true}) {
+    int compared = 0;
+    ContactData<FloatingModel<double>> cd(rt, hoap3_feet(rt, true, both));
+    for (int k = 0; k < 5; ++k) {
+      const Vec q = random_configuration(rt, Vec::Constant(n, -0.5), Vec::Constant(n, 0.5), rng);
+      const Vec v = random_vector(rt.nv(), rng, 1.0);
+      Vec tau = random_vector(rt.nv(), rng, 2.0);
+      tau.head<6>().setZero();
+      constrained_forward_dynamics(rt, data, cd, q, v, tau);
+      const double h = frame_pose(rt, data, rt.frame_index("L_SOLE")).translation().z();
+      const Vector3<double> cop = center_of_pressure(rt, data, cd, h);
+      const Vector3<double> zmp = multibody_zmp(rt, data, q, v, cd.qdd, h);
+      if (!std::isfinite(cop.x())) {  // the feet pull: neither point exists
+        EXPECT_FALSE(std::isfinite(zmp.x()));
+        continue;
+      }
+      EXPECT_LT((zmp - cop).norm(), 1e-10 * (1.0 + cop.norm())) << zmp.transpose() << " vs " << cop.transpose();
+      ++compared;
+    }
+    EXPECT_GE(compared, 3) << (both ? "double" : "single") << " support";
+  }
 }
 
 }  // namespace

@@ -77,8 +77,17 @@ struct RigidContact {
   S kd = S(0);               ///< Baumgarte velocity gain (1/s)
   Vector3<S> target_position = Vector3<S>::Zero();      ///< p*: world position of the frame's origin
   Matrix3<S> target_rotation = Matrix3<S>::Identity();  ///< R*: frame axes → world axes (6D only)
+  /// contact_inverse_dynamics only: friction coefficient μ (the pyramid |f_x|, |f_y| ≤ μ f_n inside the cone) and,
+  /// for 6D contacts, the sole: the rectangle [x_min, x_max] × [y_min, y_max] of the frame's x-y plane (metres; the
+  /// frame's z axis is the contact normal, pointing from the ground into the robot). 3D contacts push along the
+  /// world's +z.
+  S friction = S(0.6);
+  S sole_x_min = S(0), sole_x_max = S(0), sole_y_min = S(0), sole_y_max = S(0);
 
   int dim() const { return type == ContactType::Contact6D ? 6 : 3; }
+  /// Generators of the contact's wrench cone in contact_inverse_dynamics: 4 corners × 4 pyramid edges (6D), or the
+  /// 4 edges (3D).
+  int generators() const { return type == ContactType::Contact6D ? 16 : 4; }
 };
 
 /// A 6D contact on `frame` (λ in the frame's axes by default) and a 3D contact (λ in world axes by default).
@@ -152,8 +161,13 @@ struct ContactData {
                          "'): the constraint force can be reported in Local or LocalWorldAligned axes, not World");
       if (c.name.empty()) c.name = frames[static_cast<std::size_t>(c.frame)].name;
       m += c.dim();
+      ng += c.generators();
     }
     const int nv = Traits::nv(model);
+    G = MatrixX::Zero(m, ng);
+    A = Eigen::Matrix<S, 6, Eigen::Dynamic>::Zero(6, ng);
+    beta = VectorX::Zero(ng);
+    tau = VectorV::Zero(nv);
     J = MatrixX::Zero(m, nv);
     Y = MatrixX::Zero(nv, m);
     DY = MatrixX::Zero(nv, m);
@@ -172,6 +186,7 @@ struct ContactData {
 
   std::vector<RigidContact<S>> contacts;
   int m = 0;            ///< constraint rows: Σ 6 (6D) or 3 (3D)
+  int ng = 0;           ///< wrench-cone generators (contact_inverse_dynamics): Σ 16 (6D) or 4 (3D)
   S damping = S(0);     ///< μ added to the diagonal of Λ⁻¹ (redundant contacts)
   bool ok = true;       ///< false when Λ⁻¹ + μ I could not be factorised
   MatrixX J;            ///< m × nv contact Jacobian (the rows of each contact, in `contacts` order)
@@ -181,9 +196,13 @@ struct ContactData {
   VectorX position_error;  ///< e (m; see the top of contact.hpp)
   VectorV qdd;          ///< constrained_forward_dynamics: v̇
   VectorV v_after;      ///< impulse_dynamics: v⁺
+  VectorV tau;          ///< contact_inverse_dynamics: τ (nv; the first six: what the contacts could not supply)
+  int iterations = 0;   ///< contact_inverse_dynamics: Newton iterations of the force distribution
   MatrixX K;            ///< Λ⁻¹ = J H⁻¹ Jᵀ (+ μ I), m × m
   // scratch
-  MatrixX Y, DY;
+  MatrixX Y, DY, G;
+  Eigen::Matrix<S, 6, Eigen::Dynamic> A;
+  VectorX beta;
   Eigen::LLT<MatrixX> llt;
   VectorX rhs;
   VectorV tmp;
@@ -245,13 +264,10 @@ void contact_inverse_inertia(const ModelT& model, const DataT& data, ContactData
   cd.ok = cd.llt.info() == Eigen::Success;
 }
 
-/// x += H⁻¹ Jᵀ λ = L⁻¹ D⁻¹ (Y λ), then λ (solved in the rows' axes) turned into each contact's reference axes.
-template <class ModelT, class DataT, class X>
-void contact_apply_forces(const ModelT& model, const DataT& data, ContactData<ModelT>& cd, Eigen::MatrixBase<X>& x) {
+/// λ (solved in the rows' axes: 6D frame axes, 3D world axes) into each contact's reference axes.
+template <class ModelT, class DataT>
+void contact_forces_to_reference(const ModelT& model, const DataT& data, ContactData<ModelT>& cd) {
   using S = typename ModelT::Scalar;
-  cd.tmp.noalias() = cd.Y * cd.lambda;
-  ltdl_solve_dl(model, data, cd.tmp);
-  x += cd.tmp;
   const auto k = kin(model, data);
   int r = 0;
   for (const RigidContact<S>& c : cd.contacts) {
@@ -267,6 +283,82 @@ void contact_apply_forces(const ModelT& model, const DataT& data, ContactData<Mo
     }
     r += c.dim();
   }
+}
+
+/// x += H⁻¹ Jᵀ λ = L⁻¹ D⁻¹ (Y λ), then λ into the contacts' reference axes.
+template <class ModelT, class DataT, class X>
+void contact_apply_forces(const ModelT& model, const DataT& data, ContactData<ModelT>& cd, Eigen::MatrixBase<X>& x) {
+  cd.tmp.noalias() = cd.Y * cd.lambda;
+  ltdl_solve_dl(model, data, cd.tmp);
+  x += cd.tmp;
+  contact_forces_to_reference(model, data, cd);
+}
+
+/// The wrench-cone generators of every contact as the columns of cd.G (m × ng, block diagonal, in the rows' axes).
+template <class ModelT>
+void contact_generators(ContactData<ModelT>& cd) {
+  using S = typename ModelT::Scalar;
+  cd.G.setZero();
+  int r = 0, g = 0;
+  for (const RigidContact<S>& c : cd.contacts) {
+    const S mu = c.friction;
+    const Vector3<S> edges[4] = {Vector3<S>(mu, 0, 1), Vector3<S>(-mu, 0, 1), Vector3<S>(0, mu, 1),
+                                 Vector3<S>(0, -mu, 1)};
+    if (c.type == ContactType::Contact6D) {
+      const Vector3<S> corners[4] = {Vector3<S>(c.sole_x_min, c.sole_y_min, 0), Vector3<S>(c.sole_x_max, c.sole_y_min, 0),
+                                     Vector3<S>(c.sole_x_max, c.sole_y_max, 0), Vector3<S>(c.sole_x_min, c.sole_y_max, 0)};
+      for (const Vector3<S>& p : corners)
+        for (const Vector3<S>& e : edges) {
+          cd.G.template block<3, 1>(r, g) = e;
+          cd.G.template block<3, 1>(r + 3, g) = p.cross(e);
+          ++g;
+        }
+    } else {
+      for (const Vector3<S>& e : edges) cd.G.template block<3, 1>(r, g++) = e;
+    }
+    r += c.dim();
+  }
+}
+
+/// min ½‖β‖² subject to A β = w, β ≥ 0, through its dual: β = (Aᵀν)₊ with ν maximising wᵀν − ½‖(Aᵀν)₊‖² (concave,
+/// piecewise quadratic, six unknowns), by Newton's method on the active generators ((Aᵀν)ᵢ > 0) with a backtracking
+/// line search. Exact once the active set is right; returns false when it does not converge (w outside the cone:
+/// the dual is unbounded).
+template <class S, class AM, class W, class B>
+bool nonnegative_min_norm(const Eigen::MatrixBase<AM>& A, const Eigen::MatrixBase<W>& w, Eigen::MatrixBase<B>& beta,
+                          int& iterations) {
+  using std::sqrt;
+  const int n = static_cast<int>(A.cols());
+  const S scale = A.cwiseAbs().maxCoeff();
+  const S tol = S(64) * Eigen::NumTraits<S>::epsilon() * (w.norm() + S(1)) * (scale + S(1));
+  const S rho = Eigen::NumTraits<S>::epsilon() * (scale * scale + S(1));
+  Vector6<S> nu = Vector6<S>::Zero(), grad, d;
+  const auto dual = [&](const Vector6<S>& x) {
+    S v = w.dot(x);
+    for (int i = 0; i < n; ++i) {
+      const S a = A.col(i).dot(x);
+      if (a > S(0)) v -= S(0.5) * a * a;
+    }
+    return v;
+  };
+  bool first = true;
+  for (iterations = 0; iterations < 100; ++iterations) {
+    Matrix6<S> H = rho * Matrix6<S>::Identity();
+    for (int i = 0; i < n; ++i) {
+      const S a = A.col(i).dot(nu);
+      beta[i] = a > S(0) ? a : S(0);
+      if (a > S(0) || first) H.noalias() += A.col(i) * A.col(i).transpose();
+    }
+    first = false;
+    grad = w - A * beta;
+    if (grad.norm() <= tol) return true;
+    d = H.ldlt().solve(grad);
+    const S g0 = dual(nu), slope = grad.dot(d);
+    S t = S(1);
+    for (int k = 0; k < 60 && dual(nu + t * d) < g0 + S(1e-4) * t * slope; ++k) t *= S(0.5);
+    nu += t * d;
+  }
+  return false;
 }
 }  // namespace detail
 
@@ -317,6 +409,37 @@ const typename ContactData<ModelT>::VectorV& impulse_dynamics(const ModelT& mode
   cd.v_after = v_before;
   detail::contact_apply_forces(model, data, cd, cd.v_after);
   return cd.v_after;
+}
+
+/// Whole-body inverse dynamics of a floating base with contacts: given q, v and v̇ that respect the contacts, the
+/// joint torques and the contact forces (see the top of contact.hpp for the frames). RNEA gives the wrench w the
+/// root needs (τ's first six entries); the contacts must supply it, w = J_rootᵀ λ, and the rest of the RNEA torques
+/// minus Jᵀλ are the joint torques. With two feet the split is not unique; it is resolved physically:
+///   - each 6D contact's wrench is a non-negative combination of forces at the four corners of its sole, each force
+///     inside the friction pyramid |f_x|, |f_y| ≤ μ f_z (four edges, inside the cone of the same μ); a 3D contact's
+///     force is a non-negative combination of the pyramid's edges about the world's z: so every normal force is
+///     ≥ 0, every centre of pressure is inside its sole and no contact slips;
+///   - among those, the one with the least Σβ² over the generators' weights β: it spreads the load over the soles'
+///     corners (centres of pressure towards the soles' centres) and between the feet, and uses no internal forces.
+/// Solved exactly (to round-off) by `nonnegative_min_norm` (a Newton method on the six-dimensional dual). When no
+/// split can supply w (the ZMP outside the support polygon, a pulling contact, too much friction needed),
+/// `cd.ok` is false and `cd.tau`'s first six entries are the part of w the contacts leave missing (otherwise zero to
+/// round-off). Results: `cd.tau` (nv; returned), `cd.lambda` in each contact's reference axes, J in `cd.J`.
+template <class S, class T, class Q, class V, class A>
+const typename ContactData<FloatingModel<S, T>>::VectorV& contact_inverse_dynamics(
+    const FloatingModel<S, T>& model, FloatingData<S, T>& data, ContactData<FloatingModel<S, T>>& cd,
+    const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<V>& v, const Eigen::MatrixBase<A>& a) {
+  cd.tau = rnea(model, data, q, v, a);
+  compute_joint_jacobians(model, data, q);
+  detail::contact_rows<false>(model, data, cd, v);
+  detail::contact_generators(cd);
+  cd.A.noalias() = cd.J.leftCols(6).transpose() * cd.G;
+  const Vector6<S> w = cd.tau.template head<6>();
+  cd.ok = detail::nonnegative_min_norm<S>(cd.A, w, cd.beta, cd.iterations);
+  cd.lambda.noalias() = cd.G * cd.beta;
+  cd.tau.noalias() -= cd.J.transpose() * cd.lambda;
+  detail::contact_forces_to_reference(model, data, cd);
+  return cd.tau;
 }
 
 /// Sets every contact's target to its frame's current world pose at q (forward kinematics), so that the Baumgarte

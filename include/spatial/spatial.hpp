@@ -2,7 +2,7 @@
 /// \file spatial.hpp
 /// Umbrella header of the spatial library: spatial vector algebra, joints, kinematic trees and the dynamics
 /// algorithms (RNEA, CRBA, LTDL, ABA), floating bases, kinematics, centroidal quantities, input checks, printing
-/// (io.hpp), derivatives, H⁻¹, rigid contacts. See README.md for the conventions.
+/// (io.hpp), derivatives, H⁻¹, rigid contacts, ZMP. See README.md for the conventions.
 
 #include "spatial/algebra.hpp"
 #include "spatial/joints.hpp"
@@ -19,4 +19,5 @@
 #include "spatial/derivatives.hpp"
 #include "spatial/minv.hpp"
 #include "spatial/contact.hpp"
+#include "spatial/zmp.hpp"
 #include "spatial/io.hpp"
