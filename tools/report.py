@@ -97,7 +97,7 @@ MISS_NOTES = {
 ALGORITHMS = ["RNEA", "GravityTorques", "BiasForces", "CRBA", "FD_CRBA_LTDL", "FD_CRBA_DenseLLT", "ABA", "FK", "LTDL",
               "JointJacobians", "FrameJacobian", "ComputeFrameJacobian", "ComJacobian", "CentroidalMatrix",
               "RNEA_derivatives", "ABA_derivatives", "RNEA_derivatives_fd", "Minv", "RNEA_derivatives_central",
-              "RNEA_derivatives_ad"]
+              "RNEA_derivatives_ad", "ContactDynamics_6D", "ContactDynamics_2x6D", "ImpulseDynamics_2x6D"]
 ALGORITHM_TITLES = {
     "RNEA": "RNEA (inverse dynamics)",
     "GravityTorques": "gravity torques",
@@ -114,6 +114,9 @@ ALGORITHM_TITLES = {
     "RNEA_derivatives_central": "∂τ/∂q, ∂τ/∂q̇ by central differences (4n RNEA)",
     "RNEA_derivatives_ad": "∂τ/∂q, ∂τ/∂q̇ by forward-mode automatic differentiation",
     "Minv": "H⁻¹ directly (ABA-based, no H)",
+    "ContactDynamics_6D": "constrained forward dynamics, one sole welded",
+    "ContactDynamics_2x6D": "constrained forward dynamics, both soles welded",
+    "ImpulseDynamics_2x6D": "impulse dynamics, both soles (inelastic)",
 }
 PEER_CALLS = {
     ("kdl", "RNEA"): "TreeIdSolver_RNE",
@@ -129,6 +132,9 @@ PEER_CALLS = {
     ("pinocchio", "RNEA_derivatives"): "computeRNEADerivatives",
     ("pinocchio", "ABA_derivatives"): "computeABADerivatives",
     ("pinocchio", "Minv"): "computeMinverse",
+    ("pinocchio", "ContactDynamics_6D"): "constraintDynamics",
+    ("pinocchio", "ContactDynamics_2x6D"): "constraintDynamics",
+    ("pinocchio", "ImpulseDynamics_2x6D"): "impulseDynamics",
 }
 GROWTH_RE = re.compile(r"^(chain|binary)(\d+)$")
 # Variants that compute the same result compete on one Pareto front: the three forward dynamics, and the derivatives
@@ -831,7 +837,10 @@ def write_report(out_dir, compilers, records, time_kind, charts_enabled=True, sc
     w("The HOAP-3 free-flying at the pelvis (`hoap3_floating`: free-flyer + 21 joints, nq = 28, nv = 27), against "
       "Pinocchio's `JointModelFreeFlyer` model of the same robot built from the same numbers (bench_pinocchio checks "
       "τ, H and v̇ against ours before timing), on 256 states: root anywhere in a 1 m box with a random orientation, "
-      "joints within their limits.")
+      "joints within their limits. The table after the targets has every floating-base benchmark, among them the "
+      "contacts of issue 12 (`ContactDynamics_6D`: the left sole welded, `ContactDynamics_2x6D`: both soles, "
+      "`ImpulseDynamics_2x6D`: an inelastic impact on both; against Pinocchio's `constraintDynamics` and "
+      "`impulseDynamics`, checked against ours first; no target was set for them).")
     w("")
     header, rows = target_rows(records, compiler_list, have_pinocchio, FLOATING_TARGETS, FLOATING_MODEL)
     w(md_table(header, rows))
