@@ -8,6 +8,7 @@
 #include <spatial/spatial.hpp>
 #include <spatial/urdf.hpp>
 
+#include "support/cli_hoap3.hpp"
 #include "support/cli_runner.hpp"
 #include "support/urdf_reference.hpp"
 
@@ -27,84 +28,15 @@ using spatial::testing::RunResult;
 using spatial::testing::ScratchDir;
 using spatial::testing::slurp;
 using spatial::testing::urdf_path;
+using spatial::testing::cli_hoap3::kWrists;
+using spatial::testing::cli_hoap3::make_robot;
+using spatial::testing::cli_hoap3::random_states;
+using spatial::testing::cli_hoap3::Robot;
+using spatial::testing::cli_hoap3::States;
 
 #ifdef SPATIAL_DYN_EXE
 
 RunResult dyn(const std::vector<std::string>& args) { return spatial::testing::run_program(SPATIAL_DYN_EXE, args, ""); }
-
-const char* kWrists = "R_EB_R_WR_joint=0,L_EB_L_WR_joint=0";
-
-struct Robot {
-  bool floating = false;
-  uio::LoadedModel loaded;
-  std::vector<std::string> model_args, q_names, v_names;
-  int nq() const { return static_cast<int>(q_names.size()); }
-  int nv() const { return static_cast<int>(v_names.size()); }
-};
-
-Robot make_robot(bool floating, bool lock_wrists = true) {
-  Robot s;
-  s.floating = floating;
-  uio::LoadOptions o;
-  s.model_args = {"--urdf", urdf_path("hoap3.urdf")};
-  if (!floating && lock_wrists) {  // the wrists move no mass: forward dynamics needs them locked
-    o.locked = {{"R_EB_R_WR_joint", 0.0}, {"L_EB_L_WR_joint", 0.0}};
-    s.model_args.insert(s.model_args.end(), {"--lock", kWrists});
-  } else if (floating) {
-    o.floating = true;
-    o.locked = {{"CHEST_H_PAN_joint", 0.0}, {"H_PAN_H_TILT_joint", 0.0}, {"R_EB_R_WR_joint", 0.0},
-                {"L_EB_L_WR_joint", 0.0}};
-    s.model_args.insert(s.model_args.end(),
-                        {"--floating", "--lock",
-                         "CHEST_H_PAN_joint=0,H_PAN_H_TILT_joint=0,R_EB_R_WR_joint=0,L_EB_L_WR_joint=0"});
-    for (const char* c : {"x", "y", "z", "qx", "qy", "qz", "qw"}) s.q_names.push_back(std::string("floating_base:") + c);
-    for (const char* c : {"vx", "vy", "vz", "wx", "wy", "wz"}) s.v_names.push_back(std::string("floating_base:") + c);
-  }
-  s.loaded = uio::load_file(urdf_path("hoap3.urdf"), o);
-  for (int i = 0; i < s.loaded.model.size(); ++i) {
-    s.q_names.push_back(s.loaded.model.joint_name(i));
-    s.v_names.push_back(s.loaded.model.joint_name(i));
-  }
-  return s;
-}
-
-/// Random states: q within the limits (unit quaternion), qd, qdd and tau in [−1, 1], with a `time` column.
-struct States {
-  Csv csv;
-  std::vector<Eigen::VectorXd> q, qd, qdd, tau;
-};
-
-States random_states(const Robot& s, int rows, unsigned seed) {
-  States st;
-  st.csv.header.push_back("time");
-  for (const char* kind : {"q:", "qd:", "qdd:", "tau:"})
-    for (const auto& n : std::string(kind) == "q:" ? s.q_names : s.v_names) st.csv.header.push_back(kind + n);
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  const int n = s.loaded.model.size();
-  Eigen::VectorXd lo(n), hi(n);
-  for (int i = 0; i < n; ++i) {
-    const uio::JointInfo& j = s.loaded.joints[std::size_t(i)];
-    lo[i] = std::isfinite(j.lower) ? j.lower : -3.0;
-    hi[i] = std::isfinite(j.upper) ? j.upper : 3.0;
-  }
-  for (int r = 0; r < rows; ++r) {
-    Eigen::VectorXd q(s.nq()), qd(s.nv()), qdd(s.nv()), tau(s.nv());
-    if (s.floating) {
-      q = random_configuration(uio::floating_model(s.loaded), lo, hi, rng);
-      q.segment<4>(3).normalize();
-    } else {
-      for (int i = 0; i < n; ++i) q[i] = lo[i] + (hi[i] - lo[i]) * (u(rng) + 1) / 2;
-    }
-    for (int i = 0; i < s.nv(); ++i) qd[i] = u(rng), qdd[i] = u(rng), tau[i] = u(rng);
-    std::vector<std::string> row = {exact(0.01 * r)};
-    for (const Eigen::VectorXd* x : {&q, &qd, &qdd, &tau})
-      for (int i = 0; i < x->size(); ++i) row.push_back(exact((*x)[i]));
-    st.csv.rows.push_back(row);
-    st.q.push_back(q), st.qd.push_back(qd), st.qdd.push_back(qdd), st.tau.push_back(tau);
-  }
-  return st;
-}
 
 std::vector<std::string> header_of(const Robot& s, const std::vector<std::string>& blocks) {
   std::vector<std::string> h;

@@ -8,6 +8,7 @@
 //                        --in STATES.csv [--out OUT.csv] [--echo]
 //   spatial-dyn com  --urdf FILE [MODEL OPTIONS] --in STATES.csv [--out OUT.csv] [--echo]
 //   spatial-dyn derivatives id|fd --urdf FILE [MODEL OPTIONS] --in STATES.csv [--out OUT.csv] [--echo]
+//   spatial-dyn zmp  --urdf FILE [MODEL OPTIONS] --in STATES.csv [--out OUT.csv] [--echo]
 //   spatial-dyn info --urdf FILE [MODEL OPTIONS]
 //   spatial-dyn scene NAME|all [--out DIR]      the reference study's experiments (tools/scenes.hpp)
 //   MODEL OPTIONS: --root LINK  --subtree LINK  --lock JOINT=ANGLE,...  --gravity gx,gy,gz  --gravity-frame root|urdf
@@ -19,7 +20,7 @@
 //    the URDF joint names, in any order; every later non-empty line is one sample. Plain comma-separated values:
 //    fields are trimmed, a header name in double quotes is unquoted, there is no other quoting. Blank lines are
 //    skipped.
-//  - id (and derivatives id) needs q, qd, qdd of every joint of the model; fd (and derivatives fd) needs q, qd, tau; crba, jacobian and com need q. Columns of
+//  - id (and derivatives id, zmp) needs q, qd, qdd of every joint of the model; fd (and derivatives fd) needs q, qd, tau; crba, jacobian and com need q. Columns of
 //    the four kinds that the subcommand does not use are not read (but their joint names are checked).
 //  - A q:/qd:/qdd:/tau: column naming a joint that the URDF does not have is an error. Columns of URDF joints that
 //    the model does not move (fixed, --lock'ed, or outside the --subtree) are ignored, with a note on stderr: a
@@ -28,7 +29,7 @@
 //  - Output: a header and one line per sample, `tau:<joint>` (id), `qdd:<joint>` (fd), `H:<jointA>:<jointB>`
 //    row-major (crba), `J:<row>:<joint>` row-major with rows vx vy vz wx wy wz (jacobian), `com:x|y|z` then
 //    `Jcom:<x|y|z>:<joint>` (com), `dtau_dq:<row>:<column>` then `dtau_dv:…` (derivatives id) or `dqdd_dq:…`,
-//    `dqdd_dv:…`, `dqdd_dtau:…` (derivatives fd), row-major, rows and columns named like the qd: columns; joints (velocity coordinates, the free-flyer's first) in model order
+//    `dqdd_dv:…`, `dqdd_dtau:…` (derivatives fd), `F:x F:y F:z M:x M:y M:z zmp:x zmp:y` (zmp), row-major, rows and columns named like the qd: columns; joints (velocity coordinates, the free-flyer's first) in model order
 //    (`spatial-dyn info`), numbers with up to 17 significant digits (the shortest text that reads back as the same
 //    double). --echo puts the input's columns first (except those that the output recomputes). --out - or no
 //    --out: stdout. Nothing is written unless every sample is good.
@@ -36,6 +37,12 @@
 //    file, line, row and column at fault.
 //  - Warnings: link inertias breaking the triangle inequality are loaded, with one line per link on stderr,
 //    "spatial-dyn: warning: FILE: link 'x': ..."; --strict-inertia refuses them (exit status 1).
+//
+// zmp (zmp.hpp): the resultant force F and moment M (about the root frame's origin, root frame's axes) that the
+// ground must apply to the robot for the motion, the joints supplying their torques (the base wrench of RNEA: a fixed
+// base's reaction on the bodies hanging from it, the base's own weight excluded; with --floating the free-flyer's
+// wrench τ[0:6]), and the ZMP on the root frame's z = 0 plane, ((−M_y) / F_z, M_x / F_z); `nan` when F_z ≤ 0 (no
+// ZMP). For a model rooted at a stance sole (--root R_SOLE) that plane is the ground.
 //
 // jacobian and com (kinematics.hpp, centroidal.hpp):
 //  - --frame names any URDF link the model keeps: a moving link (a body) or a link merged into one (a fixed frame,
@@ -86,6 +93,7 @@ const char* kUsage =
     "                        [--reference local_world_aligned|world|local] --in STATES.csv [--out OUT.csv] [--echo]\n"
     "       spatial-dyn com  --urdf FILE [MODEL OPTIONS] --in STATES.csv [--out OUT.csv] [--echo]\n"
     "       spatial-dyn derivatives id|fd --urdf FILE [MODEL OPTIONS] --in STATES.csv [--out OUT.csv] [--echo]\n"
+    "       spatial-dyn zmp  --urdf FILE [MODEL OPTIONS] --in STATES.csv [--out OUT.csv] [--echo]\n"
     "       spatial-dyn info --urdf FILE [MODEL OPTIONS]\n"
     "       spatial-dyn scene NAME|all [--out DIR]\n"
     "MODEL OPTIONS: --root LINK  --subtree LINK  --lock JOINT=ANGLE,...  --gravity gx,gy,gz  --gravity-frame root|urdf\n"
@@ -112,6 +120,9 @@ const char* kUsage =
     "        twist of the root, Pinocchio's convention)\n"
     "  derivatives fd  analytical derivatives of forward dynamics: q:, qd:, tau: -> dqdd_dq:<row>:<column>,\n"
     "        dqdd_dv:<row>:<column>, dqdd_dtau:<row>:<column> (= the inverse of H)\n"
+    "  zmp   the ground's wrench and the ZMP: q:, qd:, qdd: -> F:x, F:y, F:z, M:x, M:y, M:z (the force and the moment\n"
+    "        about the root frame's origin that the ground must apply, root axes; the base's reaction, or with\n"
+    "        --floating the free-flyer's wrench) and zmp:x, zmp:y (on the root frame's z = 0 plane; nan when F:z <= 0)\n"
     "  info  joints in model order, limits, mass, centre of mass, massless joints, frames\n"
     "  scene the reference study's experiments on the HOAP-3 reference models (no URDF needed): torso_arms,\n"
     "        torso_strokes, circles, step, pendulum, or all; writes DIR/NAME.csv and DIR/NAME.json (default DIR:\n"
@@ -131,7 +142,7 @@ const char* kUsage =
     "then angular velocity, acceleration or wrench, in root coordinates; Pinocchio's free-flyer convention). Gravity\n"
     "is then in world coordinates.\n";
 
-enum class Command { Id, Fd, Crba, Jacobian, Com, DerivativesId, DerivativesFd, Info };
+enum class Command { Id, Fd, Crba, Jacobian, Com, DerivativesId, DerivativesFd, Zmp, Info };
 
 // ---------------------------------------------------------------------------------------------------------------
 // The model
@@ -394,6 +405,7 @@ std::string command_name(Command cmd) {
     case Command::Com: return "com";
     case Command::DerivativesId: return "derivatives id";
     case Command::DerivativesFd: return "derivatives fd";
+    case Command::Zmp: return "zmp";
     case Command::Info: break;
   }
   return "info";
@@ -424,7 +436,7 @@ int run_dynamics(Command cmd, const cli::Options& opts) {
     method = *m;
   }
   const bool derivatives = cmd == Command::DerivativesId || cmd == Command::DerivativesFd;
-  const bool inverse = cmd == Command::Id || cmd == Command::DerivativesId;
+  const bool inverse = cmd == Command::Id || cmd == Command::DerivativesId || cmd == Command::Zmp;
   const bool forward = cmd == Command::Fd || cmd == Command::DerivativesFd;
   if (forward) {
     try {
@@ -468,6 +480,8 @@ int run_dynamics(Command cmd, const cli::Options& opts) {
     for (const char* r : kComRows) out_names.push_back(std::string("com:") + r);
     for (const char* r : kComRows)
       for (int j = 0; j < nv; ++j) out_names.push_back(std::string("Jcom:") + r + ":" + robot.v_names[std::size_t(j)]);
+  } else if (cmd == Command::Zmp) {
+    for (const char* c : {"F:x", "F:y", "F:z", "M:x", "M:y", "M:z", "zmp:x", "zmp:y"}) out_names.emplace_back(c);
   } else if (derivatives) {
     const std::vector<std::string> blocks = cmd == Command::DerivativesId
                                                 ? std::vector<std::string>{"dtau_dq", "dtau_dv"}
@@ -560,6 +574,13 @@ int run_dynamics(Command cmd, const cli::Options& opts) {
       };
       if (robot.floating) write(fmodel, fdata, fdd);
       else write(model, data, dd);
+    } else if (cmd == Command::Zmp) {
+      const Force<double> w = robot.floating ? base_wrench(fmodel, fdata, q, qd, x) : base_wrench(model, data, q, qd, x);
+      const Eigen::Vector3d p = zmp_on_plane(w, 0.0);
+      for (int r = 0; r < 3; ++r) put(w.f[r]);
+      for (int r = 0; r < 3; ++r) put(w.n[r]);
+      put(p.x());
+      put(p.y());
     } else if (cmd == Command::Jacobian || cmd == Command::Com) {
       // J: linear rows first (vx vy vz wx wy wz), the velocity coordinates' columns; com: c then J_c.
       if (cmd == Command::Jacobian) {
@@ -724,7 +745,7 @@ int run_scenes(int argc, char** argv) {
 
 int run(int argc, char** argv) {
   if (argc < 2)
-    throw UsageError("no subcommand (id, fd, crba, jacobian, com, derivatives, info or scene; try --help)");
+    throw UsageError("no subcommand (id, fd, crba, jacobian, com, derivatives, zmp, info or scene; try --help)");
   const std::string sub = argv[1];
   if (sub == "--help" || sub == "-h" || sub == "help") {
     std::cout << kUsage;
@@ -756,10 +777,11 @@ int run(int argc, char** argv) {
   else if (sub == "crba") cmd = Command::Crba;
   else if (sub == "jacobian") cmd = Command::Jacobian;
   else if (sub == "com") cmd = Command::Com;
+  else if (sub == "zmp") cmd = Command::Zmp;
   else if (sub == "info") cmd = Command::Info;
   else
     throw UsageError("unknown subcommand '" + sub +
-                     "' (id, fd, crba, jacobian, com, derivatives, info or scene; try --help)");
+                     "' (id, fd, crba, jacobian, com, derivatives, zmp, info or scene; try --help)");
   for (int i = first_option; i < argc; ++i)
     if (std::string(argv[i]) == "--help" || std::string(argv[i]) == "-h") {
       std::cout << kUsage;
