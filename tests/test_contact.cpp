@@ -294,6 +294,8 @@ TEST(Contact, RedundantContactsWithDampingShareTheLoad) {
   FloatingData<double> data(model);
   ContactData<FloatingModel<double>> one(model, {contact_6d(1)}), two(model, {contact_6d(1), contact_6d(1)});
   constrained_forward_dynamics(model, data, one, q, v, tau);
+  constrained_forward_dynamics(model, data, two, q, v, tau);
+  EXPECT_FALSE(two.ok) << "an undamped redundant pair of welds must be reported";
   two.damping = 1e-10;
   constrained_forward_dynamics(model, data, two, q, v, tau);
   ASSERT_TRUE(two.ok);

@@ -37,8 +37,10 @@
 /// H⁻¹ is never formed. Λ⁻¹ is singular when the contacts are redundant (two 6D contacts on one body, three
 /// collinear points, more than six constrained directions on one rigid subtree...); then set `damping` μ > 0:
 /// λ = (Λ⁻¹ + μ I)⁻¹ (…), the damped least-squares solution, whose constraint residual grows with μ.
-/// `ContactData::ok` is false when the factorisation failed (Λ⁻¹ + μ I not positive definite); the outputs are then
-/// not meaningful. Nothing allocates after `ContactData` is built; nothing throws.
+/// `ContactData::ok` is false when the factorisation failed (Λ⁻¹ + μ I not positive definite) or Λ⁻¹ + μ I is
+/// numerically singular (its condition number, estimated from the Cholesky factor's diagonal, above 1 / (100 ε):
+/// a singular configuration such as a point contact on its body's last joint axis); the outputs are then not
+/// meaningful. Nothing allocates after `ContactData` is built; nothing throws.
 ///
 /// ## Impulses (impulse_dynamics)
 /// An inelastic (restitution e = 0) or partly elastic impact at the contacts, during which the configuration does
@@ -261,7 +263,18 @@ void contact_inverse_inertia(const ModelT& model, const DataT& data, ContactData
   cd.K.noalias() = cd.Y.transpose() * cd.DY;
   cd.K.diagonal().array() += cd.damping;
   cd.llt.compute(cd.K);
-  cd.ok = cd.llt.info() == Eigen::Success;
+  // A singular configuration (a point contact on its body's last joint axis, a stretched limb) leaves Λ⁻¹
+  // numerically singular without failing the factorisation: also refuse a condition number above 1 / (100 ε)
+  // (≈ 4.5e13 in double, 8e4 in float: fewer than ~2 significant digits left), estimated from the Cholesky
+  // factor's diagonal.
+  using S = typename ModelT::Scalar;
+  bool ok = cd.llt.info() == Eigen::Success;
+  if (ok && cd.m > 0) {
+    const auto d = cd.llt.matrixLLT().diagonal().cwiseAbs();
+    const S lo = d.minCoeff(), hi = d.maxCoeff();
+    ok = lo * lo >= S(100) * Eigen::NumTraits<S>::epsilon() * hi * hi;
+  }
+  cd.ok = ok;
 }
 
 /// λ (solved in the rows' axes: 6D frame axes, 3D world axes) into each contact's reference axes.
