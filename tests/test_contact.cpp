@@ -493,4 +493,69 @@ TEST(Zmp, MultibodyZmpIsTheCopOfTheContactForcesInSingleAndDoubleSupport) {
   }
 }
 
+// ---- impacts of a falling box (analytic) ------------------------------------------------------------------------
+
+/// A uniform box (mass 2, half sizes 0.1 × 0.15 × 0.05) with its root frame at the centre of mass, and frames at the
+/// centre of its bottom face (0) and at a bottom corner (1).
+FloatingModel<double> falling_box() {
+  const double m = 2.0, a = 0.1, b = 0.15, c = 0.05;
+  ModelBuilder<double> builder;
+  builder.add_fixed_body("bottom", -1, Transform<double>(Matrix3<double>::Identity(), Vector3<double>(0, 0, -c)),
+                         Inertia<double>::Zero());
+  builder.add_fixed_body("corner", -1, Transform<double>(Matrix3<double>::Identity(), Vector3<double>(a, b, -c)),
+                         Inertia<double>::Zero());
+  const Vector3<double> I(m / 3 * (b * b + c * c), m / 3 * (a * a + c * c), m / 3 * (a * a + b * b));
+  return FloatingModel<double>(builder.build(), Inertia<double>::from_com(m, Vector3<double>::Zero(), I.asDiagonal()),
+                               "box");
+}
+
+TEST(Impulse, FallingBoxLandingFlatStopsDead) {
+  // Translating down at 1 m/s onto its bottom face (a weld): everything stops, the impulse is m v up, no moment.
+  const FloatingModel<double> box = falling_box();
+  FloatingData<double> data(box);
+  ContactData<FloatingModel<double>> cd(box, {contact_6d(0)});
+  Vec v = Vec::Zero(6);
+  v[2] = -1.0;
+  const Vec q = neutral(box);
+  impulse_dynamics(box, data, cd, q, v);
+  EXPECT_LT(cd.v_after.norm(), 1e-15);
+  Vec expected = Vec::Zero(6);
+  expected[2] = 2.0;
+  EXPECT_LT((cd.lambda - expected).norm(), 1e-14) << cd.lambda.transpose();
+}
+
+TEST(Impulse, FallingBoxLandingOnACornerMatchesTheTextbookFormula) {
+  // A point impact at r from the centre of mass: the corner's velocity changes by K P with
+  // K = (1/m) 1 − [r]× I⁻¹ [r]× (the inverse effective mass), so P = −(1 + e) K⁻¹ v_c⁻, then v⁺ = v⁻ + P / m and
+  // ω⁺ = I⁻¹ (r × P).
+  const FloatingModel<double> box = falling_box();
+  const double m = 2.0;
+  const Matrix3<double> I = box.root_inertia().I;  // about the root origin = the centre of mass
+  const Vector3<double> r(0.1, 0.15, -0.05);
+  const Matrix3<double> rx = skew(r);
+  const Matrix3<double> K = Matrix3<double>::Identity() / m - rx * I.inverse() * rx;
+  FloatingData<double> data(box);
+  ContactData<FloatingModel<double>> cd(box, {contact_3d(1)});
+  const Vec q = neutral(box);
+  for (double e : {0.0, 0.5, 1.0}) {
+    SCOPED_TRACE("restitution " + std::to_string(e));
+    Vec v(6);
+    v << 0.3, -0.2, -1.0, 0.0, 0.0, 0.0;  // translating, not turning
+    const Vector3<double> vc = v.head<3>();
+    const Vector3<double> P = -(1 + e) * K.inverse() * vc;
+    const Vector3<double> v_after = vc + P / m, w_after = I.inverse() * r.cross(P);
+    impulse_dynamics(box, data, cd, q, v, e);
+    ASSERT_TRUE(cd.ok);
+    EXPECT_LT((cd.lambda - P).norm(), 1e-13 * P.norm()) << cd.lambda.transpose() << " vs " << P.transpose();
+    EXPECT_LT((cd.v_after.head<3>() - v_after).norm(), 1e-13);
+    EXPECT_LT((cd.v_after.tail<3>() - w_after).norm(), 1e-12);
+    // The corner: stopped (e = 0) or bouncing back.
+    EXPECT_LT((v_after + w_after.cross(r) + e * vc).norm(), 1e-13);
+    const double ke_before = 0.5 * m * vc.squaredNorm();
+    const double ke_after = 0.5 * m * v_after.squaredNorm() + 0.5 * w_after.dot(I * w_after);
+    if (e < 1) EXPECT_LT(ke_after, ke_before);
+    else EXPECT_NEAR(ke_after, ke_before, 1e-13);
+  }
+}
+
 }  // namespace
