@@ -1,8 +1,11 @@
-// The walking generator's per-tick call (walking/preview.hpp: PreviewController::step) and the plan's queries
-// (walking/footsteps.hpp: foot, zmp_reference, margin) never allocate once built. Guarded by Eigen's run-time check
+// The walking generator's per-tick call (walking/preview.hpp: PreviewController::step), the plan's queries
+// (walking/footsteps.hpp: foot, zmp_reference, margin) and the simulator's step (walking/simulation.hpp: with and
+// without contacts, with an impact) never allocate once built. Guarded by Eigen's run-time check
 // and by the counting global operator new of nomalloc_algorithms.cpp (same executable).
 
+#include <spatial/spatial.hpp>
 #include <spatial/walking.hpp>
+#include <spatial/models/hoap3_floating.hpp>
 
 #include "support/no_allocation.hpp"
 
@@ -30,6 +33,23 @@ TEST(NoMallocWalking, PreviewStepAndPlanQueries) {
     g_sink = g_sink + x.sum() + plan.foot(Foot::left, t).position.sum() + plan.zmp_reference(t).sum() +
              plan.margin(t, plan.zmp_reference(t));
   }
+  EXPECT_EQ(guard.new_calls(), 0);
+}
+
+TEST(NoMallocWalking, SimulatorSteps) {
+  const auto model = spatial::models::hoap3_floating::floating_model<double>().to_runtime();
+  std::vector<spatial::RigidContact<double>> feet{spatial::contact_6d(model.frame_index("L_SOLE")),
+                                                  spatial::contact_6d(model.frame_index("R_SOLE"))};
+  ContactSimulator<spatial::FloatingModel<double>> sim(model, feet);
+  const Eigen::VectorXd q = spatial::neutral(model), zero = Eigen::VectorXd::Zero(model.nv());
+  sim.reset(q, zero, 1u);
+  NoAllocationRegion guard;
+  sim.step(zero, 1u);
+  sim.step(zero, 3u);  // the right foot joins: an impact
+  sim.step(zero, 2u);
+  sim.step(zero, 0u);  // flying
+  sim.reset(q, zero, 3u);
+  g_sink = g_sink + sim.q().sum() + sim.v().sum();
   EXPECT_EQ(guard.new_calls(), 0);
 }
 
