@@ -31,11 +31,11 @@ using Mat = Eigen::MatrixXd;
 double rel_err(const Mat& a, const Mat& b) { return (a - b).cwiseAbs().maxCoeff() / (1.0 + b.cwiseAbs().maxCoeff()); }
 
 template <class M>
-using DataOf = typename detail::ContactTraits<M>::DataType;
+using DataOf = typename detail::ModelTraits<M>::DataType;
 
 template <class M>
 const Model<double>& tree_of(const M& m) {
-  return detail::ContactTraits<M>::tree(m);
+  return detail::ModelTraits<M>::tree(m);
 }
 
 /// World rotation R (frame axes → world) and origin p of frame f after forward kinematics at q.

@@ -110,27 +110,6 @@ RigidContact<S> contact_3d(int frame, ReferenceFrame reference = ReferenceFrame:
   return c;
 }
 
-namespace detail {
-/// What contact.hpp needs to know about a model type: its data, nv at compile time and its tree.
-template <class M>
-struct ContactTraits;
-template <class S, class T>
-struct ContactTraits<Model<S, T>> {
-  using DataType = Data<S, T>;
-  static constexpr int NV = DataType::NB;
-  static constexpr int NM = DataType::NM;
-  static const Model<S, T>& tree(const Model<S, T>& m) { return m; }
-  static int nv(const Model<S, T>& m) { return m.size(); }
-};
-template <class S, class T>
-struct ContactTraits<FloatingModel<S, T>> {
-  using DataType = FloatingData<S, T>;
-  static constexpr int NV = DataType::NV;
-  static constexpr int NM = DataType::NM;
-  static const Model<S, T>& tree(const FloatingModel<S, T>& m) { return m.tree(); }
-  static int nv(const FloatingModel<S, T>& m) { return m.nv(); }
-};
-}  // namespace detail
 
 /// The contacts of a model and every buffer their algorithms need, allocated here once. `ModelT`: `Model<S, T>` or
 /// `FloatingModel<S, T>`. The contacts' frames and types are fixed at construction (they set the sizes); their
@@ -139,7 +118,7 @@ template <class ModelT>
 struct ContactData {
   using Scalar = typename ModelT::Scalar;
   using S = Scalar;
-  using Traits = detail::ContactTraits<ModelT>;
+  using Traits = detail::ModelTraits<ModelT>;
   static constexpr int NV = Traits::NV;
   static constexpr int NM = Traits::NM;
   using VectorV = Eigen::Matrix<S, NV, 1>;
@@ -253,7 +232,7 @@ void contact_rows(const ModelT& model, const DataT& data, ContactData<ModelT>& c
 /// Λ⁻¹ = Yᵀ D⁻¹ Y with Y = L⁻ᵀ Jᵀ (data.L: the LTDL factor of H), and its Cholesky factor.
 template <class ModelT, class DataT>
 void contact_inverse_inertia(const ModelT& model, const DataT& data, ContactData<ModelT>& cd) {
-  const int nv = ContactTraits<ModelT>::nv(model);
+  const int nv = ModelTraits<ModelT>::nv(model);
   cd.Y = cd.J.transpose();
   for (int c = 0; c < cd.m; ++c) {
     auto col = cd.Y.col(c);

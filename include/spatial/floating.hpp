@@ -914,4 +914,42 @@ Vector3<S> center_of_mass(const FloatingModel<S, T>& model, FloatingData<S, T>& 
   return hm.first / hm.second;
 }
 
+namespace detail {
+/// What generic code (ik.hpp, contact.hpp) needs to know about fixed- and floating-base models: their data type,
+/// nv at compile time (NV, Eigen::Dynamic for run-time trees) and the matching matrix dimension (NM), where the
+/// joints start in q and v, the sizes, the tree, and q ⊕ v.
+template <class M>
+struct ModelTraits;
+template <class S, class T>
+struct ModelTraits<Model<S, T>> {
+  using DataType = Data<S, T>;
+  static constexpr int NV = DataType::NB;
+  static constexpr int NM = DataType::NM;
+  static constexpr int qoff = 0;  ///< first joint in q
+  static constexpr int voff = 0;  ///< first joint in v
+  static int nq(const Model<S, T>& m) { return m.size(); }
+  static int nv(const Model<S, T>& m) { return m.size(); }
+  static const Model<S, T>& tree(const Model<S, T>& m) { return m; }
+  template <class Q, class V, class Out>
+  static void integrate(const Model<S, T>&, const Q& q, const V& v, Out& out) {
+    out = q + v;
+  }
+};
+template <class S, class T>
+struct ModelTraits<FloatingModel<S, T>> {
+  using DataType = FloatingData<S, T>;
+  static constexpr int NV = DataType::NV;
+  static constexpr int NM = DataType::NM;
+  static constexpr int qoff = 7;
+  static constexpr int voff = 6;
+  static int nq(const FloatingModel<S, T>& m) { return m.nq(); }
+  static int nv(const FloatingModel<S, T>& m) { return m.nv(); }
+  static const Model<S, T>& tree(const FloatingModel<S, T>& m) { return m.tree(); }
+  template <class Q, class V, class Out>
+  static void integrate(const FloatingModel<S, T>& m, const Q& q, const V& v, Out& out) {
+    spatial::integrate(m, q, v, S(1), out);
+  }
+};
+}  // namespace detail
+
 }  // namespace spatial

@@ -151,36 +151,6 @@ struct IkStatus {
 
 namespace detail {
 
-/// What the solver needs to know about fixed- and floating-base models.
-template <class M>
-struct IkModelTraits;
-template <class S, class T>
-struct IkModelTraits<Model<S, T>> {
-  using DataType = Data<S, T>;
-  static constexpr int qoff = 0;  ///< first joint in q
-  static constexpr int voff = 0;  ///< first joint in v
-  static int nq(const Model<S, T>& m) { return m.size(); }
-  static int nv(const Model<S, T>& m) { return m.size(); }
-  static const Model<S, T>& tree(const Model<S, T>& m) { return m; }
-  template <class Q, class V, class Out>
-  static void integrate(const Model<S, T>&, const Q& q, const V& v, Out& out) {
-    out = q + v;
-  }
-};
-template <class S, class T>
-struct IkModelTraits<FloatingModel<S, T>> {
-  using DataType = FloatingData<S, T>;
-  static constexpr int qoff = 7;
-  static constexpr int voff = 6;
-  static int nq(const FloatingModel<S, T>& m) { return m.nq(); }
-  static int nv(const FloatingModel<S, T>& m) { return m.nv(); }
-  static const Model<S, T>& tree(const FloatingModel<S, T>& m) { return m.tree(); }
-  template <class Q, class V, class Out>
-  static void integrate(const FloatingModel<S, T>& m, const Q& q, const V& v, Out& out) {
-    spatial::integrate(m, q, v, S(1), out);
-  }
-};
-
 /// log(R) as a rotation vector (angle in [0, π]), through the quaternion (accurate near 0 and π).
 template <class S>
 Vector3<S> so3_log(const Matrix3<S>& R) {
@@ -233,7 +203,7 @@ class IkSolver {
  public:
   using Scalar = typename ModelT::Scalar;
   using S = Scalar;
-  using Traits = detail::IkModelTraits<ModelT>;
+  using Traits = detail::ModelTraits<ModelT>;
   using DataType = typename Traits::DataType;
   using VectorX = Eigen::Matrix<S, Eigen::Dynamic, 1>;
   using MatrixX = Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>;
