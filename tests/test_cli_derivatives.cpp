@@ -32,6 +32,7 @@ using spatial::testing::cli_hoap3::kWrists;
 using spatial::testing::cli_hoap3::make_robot;
 using spatial::testing::cli_hoap3::random_states;
 using spatial::testing::cli_hoap3::Robot;
+using spatial::testing::cli_hoap3::Setup;
 using spatial::testing::cli_hoap3::States;
 
 #ifdef SPATIAL_DYN_EXE
@@ -57,7 +58,7 @@ Eigen::MatrixXd block(const Csv& csv, std::size_t row, const Robot& s, const std
 
 void check(bool floating) {
   SCOPED_TRACE(floating ? "floating" : "fixed at base_link");
-  const Robot s = make_robot(floating);
+  const Robot s = make_robot(floating ? Setup::Floating : Setup::FixedWristsLocked);
   ScratchDir dir("cli_derivatives");
   const States st = random_states(s, 3, floating ? 7u : 8u);
   st.csv.write(dir.file("in.csv"));
@@ -109,7 +110,7 @@ TEST(CliDerivatives, FixedBaseMatchesTheLibrary) { check(false); }
 TEST(CliDerivatives, FloatingBaseMatchesTheLibrary) { check(true); }
 
 TEST(CliDerivatives, EchoKeepsTheInputColumns) {
-  const Robot s = make_robot(false);
+  const Robot s = make_robot(Setup::FixedWristsLocked);
   ScratchDir dir("cli_derivatives_echo");
   random_states(s, 1, 9u).csv.write(dir.file("in.csv"));
   std::vector<std::string> args = {"derivatives", "id"};
@@ -131,7 +132,7 @@ void expect_error(const RunResult& r, int status, const std::vector<std::string>
 }
 
 TEST(CliDerivatives, Errors) {
-  const Robot s = make_robot(false);
+  const Robot s = make_robot(Setup::FixedWristsLocked);
   ScratchDir dir("cli_derivatives_errors");
   States st = random_states(s, 1, 10u);
   st.csv.write(dir.file("in.csv"));
@@ -154,7 +155,7 @@ TEST(CliDerivatives, Errors) {
   expect_error(dyn({"derivatives", "fd", "--urdf", urdf, "--lock", kWrists, "--in", dir.file("no_tau.csv")}), 1,
                {"missing column 'tau:R_LFE_R_KN_joint'", "derivatives fd"});
   // Forward dynamics with massless joints: refused, naming them and the --lock that fixes it.
-  random_states(make_robot(false, false), 1, 11u).csv.write(dir.file("all_joints.csv"));
+  random_states(make_robot(Setup::Fixed), 1, 11u).csv.write(dir.file("all_joints.csv"));
   expect_error(dyn({"derivatives", "fd", "--urdf", urdf, "--in", dir.file("all_joints.csv")}), 1,
                {"'R_EB_R_WR_joint'", "singular", "--lock R_EB_R_WR_joint=0"});
   const RunResult help = dyn({"--help"});

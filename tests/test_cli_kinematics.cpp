@@ -10,6 +10,7 @@
 #include <spatial/spatial.hpp>
 #include <spatial/urdf.hpp>
 
+#include "support/cli_hoap3.hpp"
 #include "support/cli_runner.hpp"
 #include "support/urdf_reference.hpp"
 
@@ -37,56 +38,11 @@ RunResult dyn(const std::vector<std::string>& args) { return spatial::testing::r
 
 // The floating model locks the head's pan and tilt (H_PAN and H_TILT, turned by π when moving, become fixed frames of
 // the chest; H_ROLL, also turned, hangs from the chest) and the wrists.
-const char* kPanTiltAndWrists = "CHEST_H_PAN_joint=0,H_PAN_H_TILT_joint=0,R_EB_R_WR_joint=0,L_EB_L_WR_joint=0";
-
-const char* kFreeFlyerQ[] = {"x", "y", "z", "qx", "qy", "qz", "qw"};
-const char* kFreeFlyerV[] = {"vx", "vy", "vz", "wx", "wy", "wz"};
 const char* kJacobianRows[] = {"vx", "vy", "vz", "wx", "wy", "wz"};  // linear first
 
-// The study's stance model: rooted at the right sole, head and wrists locked.
-const char* kHeadAndWrists =
-    "CHEST_H_PAN_joint=0,H_PAN_H_TILT_joint=0,H_TILT_H_ROLL_joint=0,R_EB_R_WR_joint=0,L_EB_L_WR_joint=0";
-
-/// The set-ups: the HOAP-3 fixed at base_link (every joint free); floating, with the head's pan and tilt and the
-/// wrists locked; fixed at the right sole (the right leg's joints reversed: their bodies' frames are the joint
-/// frames, away from the links'), head and wrists locked.
-enum class Kind { Fixed, Floating, RightSole };
-
-struct KinRobot {
-  bool floating = false;
-  uio::LoadedModel loaded;
-  std::vector<std::string> model_args;      // the command line's model options
-  std::vector<std::string> q_names, v_names;  // coordinates, as in the q: and qd: columns less the prefix
-  int nq() const { return static_cast<int>(q_names.size()); }
-  int nv() const { return static_cast<int>(v_names.size()); }
-};
-
-KinRobot make_robot(Kind kind) {
-  KinRobot s;
-  s.floating = kind == Kind::Floating;
-  uio::LoadOptions o;
-  s.model_args = {"--urdf", urdf_path("hoap3.urdf")};
-  if (kind == Kind::RightSole) {
-    o.root = "R_SOLE";
-    o.locked = {{"CHEST_H_PAN_joint", 0.0}, {"H_PAN_H_TILT_joint", 0.0}, {"H_TILT_H_ROLL_joint", 0.0},
-                {"R_EB_R_WR_joint", 0.0}, {"L_EB_L_WR_joint", 0.0}};
-    s.model_args.insert(s.model_args.end(), {"--root", "R_SOLE", "--lock", kHeadAndWrists});
-  }
-  if (s.floating) {
-    o.floating = true;
-    o.locked = {{"CHEST_H_PAN_joint", 0.0}, {"H_PAN_H_TILT_joint", 0.0}, {"R_EB_R_WR_joint", 0.0},
-                {"L_EB_L_WR_joint", 0.0}};
-    s.model_args.insert(s.model_args.end(), {"--floating", "--lock", kPanTiltAndWrists});
-    for (const char* c : kFreeFlyerQ) s.q_names.push_back(std::string("floating_base:") + c);
-    for (const char* c : kFreeFlyerV) s.v_names.push_back(std::string("floating_base:") + c);
-  }
-  s.loaded = uio::load_file(urdf_path("hoap3.urdf"), o);
-  for (int i = 0; i < s.loaded.model.size(); ++i) {
-    s.q_names.push_back(s.loaded.model.joint_name(i));
-    s.v_names.push_back(s.loaded.model.joint_name(i));
-  }
-  return s;
-}
+using Kind = spatial::testing::cli_hoap3::Setup;
+using KinRobot = spatial::testing::cli_hoap3::Robot;
+using spatial::testing::cli_hoap3::make_robot;
 
 /// Random configurations (joints within their limits, the free-flyer anywhere near the origin), written with a
 /// `time` column in front and qd: columns behind that the kinematics subcommands do not need.
@@ -95,7 +51,7 @@ struct States {
   std::vector<Eigen::VectorXd> q;
 };
 
-States random_states(const KinRobot& s, int rows, unsigned seed) {
+States random_configurations(const KinRobot& s, int rows, unsigned seed) {
   States st;
   st.csv.header.push_back("time");
   for (const auto& n : s.q_names) st.csv.header.push_back("q:" + n);
@@ -210,7 +166,7 @@ class CliKinematics : public ::testing::TestWithParam<Kind> {};
 TEST_P(CliKinematics, JacobianMatchesTheLibrary) {
   const KinRobot s = make_robot(GetParam());
   ScratchDir dir("cli_kinematics");
-  const States st = random_states(s, 4, s.floating ? 11u : 12u);
+  const States st = random_configurations(s, 4, s.floating ? 11u : 12u);
   st.csv.write(dir.file("q.csv"));
   const std::string turned = turned_link(s);
   // H_PAN_H_TILT_joint turns about −z, H_TILT_H_ROLL_joint about −x (the first is locked in the floating set-up);
@@ -266,7 +222,7 @@ TEST_P(CliKinematics, JacobianMatchesTheLibrary) {
 TEST_P(CliKinematics, CenterOfMassAndItsJacobianMatchTheLibrary) {
   const KinRobot s = make_robot(GetParam());
   ScratchDir dir("cli_com");
-  const States st = random_states(s, 5, s.floating ? 21u : 22u);
+  const States st = random_configurations(s, 5, s.floating ? 21u : 22u);
   st.csv.write(dir.file("q.csv"));
   std::vector<std::string> args = {"com"};
   args.insert(args.end(), s.model_args.begin(), s.model_args.end());
@@ -324,7 +280,7 @@ void expect_error(const RunResult& r, int status, const std::vector<std::string>
 TEST(CliKinematicsErrors, NamesTheProblem) {
   const KinRobot s = make_robot(Kind::Fixed);
   ScratchDir dir("cli_kinematics_errors");
-  States st = random_states(s, 2, 31u);
+  States st = random_configurations(s, 2, 31u);
   st.csv.write(dir.file("q.csv"));
   const std::string urdf = urdf_path("hoap3.urdf"), in = dir.file("q.csv");
   // Unknown frame (status 1 like the model's other errors): named, with some of the links that exist.
@@ -355,7 +311,7 @@ TEST(CliKinematicsErrors, NamesTheProblem) {
                {"missing column 'q:R_LFE_R_KN_joint'", "com needs q:"});
   // Floating: the free-flyer's q: columns are needed too.
   const KinRobot f = make_robot(Kind::Floating);
-  States fs = random_states(f, 1, 32u);
+  States fs = random_configurations(f, 1, 32u);
   const int w = fs.csv.column("q:floating_base:qw");
   ASSERT_GE(w, 0);
   fs.csv.header[std::size_t(w)] = "qw";

@@ -29,6 +29,7 @@ using spatial::testing::urdf_path;
 using spatial::testing::cli_hoap3::make_robot;
 using spatial::testing::cli_hoap3::random_states;
 using spatial::testing::cli_hoap3::Robot;
+using spatial::testing::cli_hoap3::Setup;
 
 #ifdef SPATIAL_DYN_EXE
 
@@ -38,7 +39,7 @@ const std::vector<std::string> kColumns = {"F:x", "F:y", "F:z", "M:x", "M:y", "M
 
 void check(bool floating) {
   SCOPED_TRACE(floating ? "floating" : "fixed at base_link");
-  const Robot s = make_robot(floating);
+  const Robot s = make_robot(floating ? Setup::Floating : Setup::FixedWristsLocked);
   ScratchDir dir("cli_zmp");
   const auto st = random_states(s, 4, floating ? 21u : 22u);
   st.csv.write(dir.file("in.csv"));
@@ -80,7 +81,7 @@ TEST(CliZmp, AtRestOnTheRightSoleTheZmpIsTheCentreOfMass) {
   // Rooted at the right sole (z up), standing still: the ground's force is the weight of the moving bodies and the
   // ZMP is their centre of mass projected on the sole's plane (spatial-dyn com: fixed base, moving bodies).
   ScratchDir dir("cli_zmp_rest");
-  const Robot s = make_robot(false, false);
+  const Robot s = make_robot(Setup::Fixed);
   Csv in;
   for (const char* kind : {"q:", "qd:", "qdd:"})
     for (const auto& n : s.v_names) in.header.push_back(kind + n);
@@ -107,7 +108,7 @@ TEST(CliZmp, AtRestOnTheRightSoleTheZmpIsTheCentreOfMass) {
 
 TEST(CliZmp, MissingAccelerationsAreAnError) {
   ScratchDir dir("cli_zmp_errors");
-  const Robot s = make_robot(false);
+  const Robot s = make_robot(Setup::FixedWristsLocked);
   auto st = random_states(s, 1, 3u);
   Csv c = st.csv;
   const int k = c.column("qdd:" + s.v_names[0]);

@@ -2,7 +2,8 @@
 // The HOAP-3 as the command-line tests load it (not part of the installed library): the same model as spatial-dyn
 // builds from its model options, fixed at base_link with the wrists locked (they move no mass: forward dynamics
 // needs them locked) or floating with the head's pan and tilt and the wrists locked; the q:/qd: column names; random
-// states as a CSV with a `time` column. Used by tests/test_cli_derivatives.cpp and tests/test_cli_zmp.cpp.
+// states as a CSV with a `time` column. Used by tests/test_cli_derivatives.cpp, test_cli_zmp.cpp and
+// test_cli_kinematics.cpp.
 
 #include <spatial/spatial.hpp>
 #include <spatial/urdf.hpp>
@@ -20,32 +21,50 @@ namespace spatial::testing::cli_hoap3 {
 namespace uio = spatial::urdf_io;
 
 inline const char* kWrists = "R_EB_R_WR_joint=0,L_EB_L_WR_joint=0";
+inline const char* kPanTiltAndWrists = "CHEST_H_PAN_joint=0,H_PAN_H_TILT_joint=0,R_EB_R_WR_joint=0,L_EB_L_WR_joint=0";
+/// The study's stance model: rooted at the right sole, head and wrists locked.
+inline const char* kHeadAndWrists =
+    "CHEST_H_PAN_joint=0,H_PAN_H_TILT_joint=0,H_TILT_H_ROLL_joint=0,R_EB_R_WR_joint=0,L_EB_L_WR_joint=0";
+
+/// The set-ups: fixed at base_link with every joint free (`Fixed`) or with the wrists locked (`FixedWristsLocked`:
+/// they move no mass, forward dynamics needs them locked); floating, with the head's pan and tilt and the wrists
+/// locked; fixed at the right sole (the right leg's joints reversed), head and wrists locked.
+enum class Setup { Fixed, FixedWristsLocked, Floating, RightSole };
 
 struct Robot {
   bool floating = false;
   uio::LoadedModel loaded;
-  std::vector<std::string> model_args, q_names, v_names;
+  std::vector<std::string> model_args;        // the command line's model options
+  std::vector<std::string> q_names, v_names;  // coordinates, as in the q: and qd: columns less the prefix
   int nq() const { return static_cast<int>(q_names.size()); }
   int nv() const { return static_cast<int>(v_names.size()); }
 };
 
-inline Robot make_robot(bool floating, bool lock_wrists = true) {
+inline Robot make_robot(Setup setup) {
   Robot s;
-  s.floating = floating;
+  s.floating = setup == Setup::Floating;
   uio::LoadOptions o;
   s.model_args = {"--urdf", urdf_path("hoap3.urdf")};
-  if (!floating && lock_wrists) {  // the wrists move no mass: forward dynamics needs them locked
-    o.locked = {{"R_EB_R_WR_joint", 0.0}, {"L_EB_L_WR_joint", 0.0}};
-    s.model_args.insert(s.model_args.end(), {"--lock", kWrists});
-  } else if (floating) {
-    o.floating = true;
-    o.locked = {{"CHEST_H_PAN_joint", 0.0}, {"H_PAN_H_TILT_joint", 0.0}, {"R_EB_R_WR_joint", 0.0},
-                {"L_EB_L_WR_joint", 0.0}};
-    s.model_args.insert(s.model_args.end(),
-                        {"--floating", "--lock",
-                         "CHEST_H_PAN_joint=0,H_PAN_H_TILT_joint=0,R_EB_R_WR_joint=0,L_EB_L_WR_joint=0"});
-    for (const char* c : {"x", "y", "z", "qx", "qy", "qz", "qw"}) s.q_names.push_back(std::string("floating_base:") + c);
-    for (const char* c : {"vx", "vy", "vz", "wx", "wy", "wz"}) s.v_names.push_back(std::string("floating_base:") + c);
+  switch (setup) {
+    case Setup::Fixed: break;
+    case Setup::FixedWristsLocked:
+      o.locked = {{"R_EB_R_WR_joint", 0.0}, {"L_EB_L_WR_joint", 0.0}};
+      s.model_args.insert(s.model_args.end(), {"--lock", kWrists});
+      break;
+    case Setup::Floating:
+      o.floating = true;
+      o.locked = {{"CHEST_H_PAN_joint", 0.0}, {"H_PAN_H_TILT_joint", 0.0}, {"R_EB_R_WR_joint", 0.0},
+                  {"L_EB_L_WR_joint", 0.0}};
+      s.model_args.insert(s.model_args.end(), {"--floating", "--lock", kPanTiltAndWrists});
+      for (const char* c : {"x", "y", "z", "qx", "qy", "qz", "qw"}) s.q_names.push_back(std::string("floating_base:") + c);
+      for (const char* c : {"vx", "vy", "vz", "wx", "wy", "wz"}) s.v_names.push_back(std::string("floating_base:") + c);
+      break;
+    case Setup::RightSole:
+      o.root = "R_SOLE";
+      o.locked = {{"CHEST_H_PAN_joint", 0.0}, {"H_PAN_H_TILT_joint", 0.0}, {"H_TILT_H_ROLL_joint", 0.0},
+                  {"R_EB_R_WR_joint", 0.0}, {"L_EB_L_WR_joint", 0.0}};
+      s.model_args.insert(s.model_args.end(), {"--root", "R_SOLE", "--lock", kHeadAndWrists});
+      break;
   }
   s.loaded = uio::load_file(urdf_path("hoap3.urdf"), o);
   for (int i = 0; i < s.loaded.model.size(); ++i) {
