@@ -59,12 +59,7 @@ States random_configurations(const KinRobot& s, int rows, unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   const int n = s.loaded.model.size();
-  Eigen::VectorXd lo(n), hi(n);
-  for (int i = 0; i < n; ++i) {
-    const uio::JointInfo& j = s.loaded.joints[std::size_t(i)];
-    lo[i] = std::isfinite(j.lower) ? j.lower : -3.0;
-    hi[i] = std::isfinite(j.upper) ? j.upper : 3.0;
-  }
+  const auto [lo, hi] = spatial::testing::cli_hoap3::joint_range(s);
   for (int r = 0; r < rows; ++r) {
     Eigen::VectorXd q(s.nq());
     if (s.floating) {

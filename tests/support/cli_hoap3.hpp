@@ -14,6 +14,7 @@
 #include <cmath>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace spatial::testing::cli_hoap3 {
@@ -74,6 +75,18 @@ inline Robot make_robot(Setup setup) {
   return s;
 }
 
+/// The joints' limits, ±3 where the URDF gives none: the range random configurations are drawn from.
+inline std::pair<Eigen::VectorXd, Eigen::VectorXd> joint_range(const Robot& s) {
+  const int n = s.loaded.model.size();
+  Eigen::VectorXd lo(n), hi(n);
+  for (int i = 0; i < n; ++i) {
+    const uio::JointInfo& j = s.loaded.joints[std::size_t(i)];
+    lo[i] = std::isfinite(j.lower) ? j.lower : -3.0;
+    hi[i] = std::isfinite(j.upper) ? j.upper : 3.0;
+  }
+  return {lo, hi};
+}
+
 /// Random states: q within the limits (unit quaternion), qd, qdd and tau in [−1, 1], with a `time` column.
 struct States {
   Csv csv;
@@ -88,12 +101,7 @@ inline States random_states(const Robot& s, int rows, unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   const int n = s.loaded.model.size();
-  Eigen::VectorXd lo(n), hi(n);
-  for (int i = 0; i < n; ++i) {
-    const uio::JointInfo& j = s.loaded.joints[std::size_t(i)];
-    lo[i] = std::isfinite(j.lower) ? j.lower : -3.0;
-    hi[i] = std::isfinite(j.upper) ? j.upper : 3.0;
-  }
+  const auto [lo, hi] = joint_range(s);
   for (int r = 0; r < rows; ++r) {
     Eigen::VectorXd q(s.nq()), qd(s.nv()), qdd(s.nv()), tau(s.nv());
     if (s.floating) {
