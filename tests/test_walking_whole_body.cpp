@@ -1,6 +1,6 @@
 // The open-loop whole-body walking pipeline (include/spatial/walking/whole_body.hpp) on the floating HOAP-3: the sole
-// frames' geometry, the data sheet's motor torques, and a short walk (2 steps, 1 s standing before and after: 2101
-// ticks, three passes) checked tick by tick with independent code paths (forward kinematics, centre of mass, manifold
+// frames' geometry, the data sheet's motor torques, and a short walk (1 step, 1 s standing before and 0.5 s after, 5 ms
+// ticks: 541 ticks, three passes) checked tick by tick with independent code paths (forward kinematics, centre of mass, manifold
 // differences of consecutive ticks, frame accelerations, the contact wrenches' CoP). One run is shared by the tests.
 //
 // Tolerances: the IK stops at ‖r‖ ≤ 1e-11 (m, rad), so poses are checked at 1e-10; velocities and accelerations come
@@ -34,12 +34,12 @@ WholeBodyFrames hoap3_frames() {
 }
 
 GaitParameters<double> short_gait() {
-  GaitParameters<double> g;  // the HOAP-3 defaults of docs/walking.md (50 mm, 1.0 s, r = 0.2, 20 mm), two steps
-  g.steps = 2;
+  GaitParameters<double> g;  // the HOAP-3 defaults of docs/walking.md (50 mm, 1.0 s, r = 0.2, 20 mm), one step
+  g.steps = 1;
   // one second of standing before the first step: the preview controllers see the first step coming from t = 0 (with
   // less, the first stage starts by tracking late and the second stage cannot anticipate the error of the first ticks)
   g.initial_double_support = 1.0;
-  g.final_double_support = 1.0;
+  g.final_double_support = 0.5;
   return g;
 }
 
@@ -50,6 +50,9 @@ struct ShortWalk {
   WholeBodyRun<FM> run;
   ShortWalk() {
     options = hoap3_whole_body_options<double>(fb::joint_names);
+    // 5 ms ticks (the reference study's other period, Kajita 2003's example) to keep the sanitizer build's run short;
+    // the pipeline does not depend on it
+    options.preview.dt = 0.005;
     options.second_stage_iterations = 2;
     run = run_whole_body(model, hoap3_frames(), spatial::ik_limits(fb::lower), spatial::ik_limits(fb::upper), plan,
                          options);
@@ -176,9 +179,10 @@ TEST(WholeBodyWalk, VelocitiesAndAccelerationsAreTheDerivativesOfTheConfiguratio
   }
   std::printf("  [whole body] |v| ≤ %.3f, |v̇| ≤ %.2f; central differences differ by %.1e and %.1e\n", vmax, amax, ev, ea);
   EXPECT_GT(vmax, 0.1);  // the walk moves
-  // measured: 1.9e-4 and 7.7e-3 of the largest entries (the swing knee at lift-off: |v̇| ≈ 46 rad/s²)
-  EXPECT_LE(ev, 6e-4 * vmax);
-  EXPECT_LE(ea, 3e-2 * amax);
+  // measured at dt = 5 ms: 1.0e-3 and 2.9e-2 of the largest entries (the swing knee at lift-off, |v̇| ≈ 19 rad/s²;
+  // at 2 ms: 1.9e-4 and 7.7e-3, the dt² of central differences); a v or v̇ in the wrong frame would be off by O(1)
+  EXPECT_LE(ev, 3e-3 * vmax);
+  EXPECT_LE(ea, 0.1 * amax);
 }
 
 TEST(WholeBodyWalk, StanceSolesDoNotMoveAndSwingSolesFollowTheirTrajectories) {
@@ -208,7 +212,7 @@ TEST(WholeBodyWalk, StanceSolesDoNotMoveAndSwingSolesFollowTheirTrajectories) {
   }
   std::printf("  [whole body] stance soles: |v| ≤ %.1e, |a| ≤ %.1e; swing soles off their trajectory by %.1e\n",
               stance_v, stance_a, swing_a);
-  EXPECT_GT(swing_ticks, 500);
+  EXPECT_GT(swing_ticks, 100);
   EXPECT_LE(stance_v, 1e-10);
   EXPECT_LE(stance_a, 1e-9);
   EXPECT_LE(swing_a, 1e-9);
@@ -266,10 +270,10 @@ TEST(WholeBodyWalk, SecondStageReducesTheMultibodyZmpError) {
                 i, 1e3 * p[i].zmp_error_max, 1e3 * p[i].zmp_error_rms, 1e3 * p[i].zmp_error_ct_max,
                 1e3 * p[i].zmp_error_ct_rms, 1e3 * p[i].min_margin);
   // the first stage leaves millimetres between the multibody and the cart-table ZMP
-  EXPECT_GT(p[0].zmp_error_ct_max, 2e-3);
+  EXPECT_GT(p[0].zmp_error_ct_max, 1e-3);
   // each correction shrinks it (to the second controller's tracking error of the previous one)
-  EXPECT_LT(p[1].zmp_error_ct_max, 0.4 * p[0].zmp_error_ct_max);
-  EXPECT_LT(p[2].zmp_error_ct_max, 0.4 * p[1].zmp_error_ct_max);
+  EXPECT_LT(p[1].zmp_error_ct_max, 0.6 * p[0].zmp_error_ct_max);
+  EXPECT_LT(p[2].zmp_error_ct_max, 0.6 * p[1].zmp_error_ct_max);
   EXPECT_LT(p[2].zmp_error_ct_rms, 0.1 * p[0].zmp_error_ct_rms);
   // against the reference: what is left is the cart-table's own tracking error
   EXPECT_LT(p[2].zmp_error_max, 0.5 * p[0].zmp_error_max);
@@ -317,21 +321,24 @@ TEST(WholeBodyWalk, RunTimeTreeGivesTheSameTicks) {
   const auto rt = w.model.to_runtime();
   using RM = std::decay_t<decltype(rt)>;
   auto options = w.options;
-  options.second_stage_iterations = 0;
+  options.preview.dt = 0.002;
+  GaitParameters<double> g = short_gait();
+  g.initial_double_support = 0.0;
+  const FootstepPlan<double> plan(g);
   WholeBodyGenerator<RM> gen(rt, hoap3_frames(), spatial::ik_limits(fb::lower), spatial::ik_limits(fb::upper),
                              options);
   WholeBodyGenerator<FM> ref(w.model, hoap3_frames(), spatial::ik_limits(fb::lower), spatial::ik_limits(fb::upper),
                              options);
   PreviewController<double> ctl(options.preview);
-  const auto zref = sample_zmp_reference(w.plan, options.preview.dt);
+  const auto zref = sample_zmp_reference(plan, options.preview.dt);
   const PreviewTrajectory<double> pt = run_preview(ctl, zref);
-  gen.start(w.plan, zref.row(0).transpose());
-  ref.start(w.plan, zref.row(0).transpose());
-  for (int k = 0; k < 400; k += 1) {  // through the first double support into single support
+  gen.start(plan, zref.row(0).transpose());
+  ref.start(plan, zref.row(0).transpose());
+  for (int k = 0; k < 120; ++k) {  // through the first double support into single support
     Eigen::Matrix<double, 3, 2> c;
     c << pt.com.row(k), pt.com_velocity.row(k), pt.com_acceleration.row(k);
-    const auto& a = gen.tick(w.plan, k * options.preview.dt, c);
-    const auto& b = ref.tick(w.plan, k * options.preview.dt, c);
+    const auto& a = gen.tick(plan, k * options.preview.dt, c);
+    const auto& b = ref.tick(plan, k * options.preview.dt, c);
     ASSERT_NEAR((a.q - b.q).cwiseAbs().maxCoeff(), 0.0, 1e-12) << k;
     ASSERT_NEAR((a.tau - b.tau).cwiseAbs().maxCoeff(), 0.0, 1e-9) << k;
   }

@@ -54,7 +54,8 @@
 /// run again. The cart-table ZMP of the correction tracks e, so the multibody ZMP of the corrected motion moves
 /// onto p_ct; since a pass is cheap, `second_stage_iterations` repeats this (the error left after each pass is the
 /// second controller's tracking error of the previous one, so it shrinks geometrically). Pass 0 is the first stage
-/// alone; the samples of the last pass are returned with the statistics of every pass.
+/// alone; the samples of the last pass are returned with the statistics of every pass. Only the last pass runs the
+/// contact inverse dynamics (`tick_kinematics` before it: the multibody ZMP needs RNEA alone).
 
 #include "spatial/contact.hpp"
 #include "spatial/floating.hpp"
@@ -235,7 +236,8 @@ class WholeBodyGenerator {
   /// pelvis level; solved from the posture (knees bent) with the pelvis z_c above the ground, up to 200 IK
   /// iterations. v = v̇ = 0; then the inverse dynamics of that static pose. Returns the IK status.
   IkStatus<S> start(const FootstepPlan<S>& plan, const Vec2<S>& c_xy) {
-    st_.q = neutral(model_);
+    st_.q.setZero();  // neutral (root at the origin, identity quaternion) without neutral()'s temporary
+    st_.q[6] = S(1);
     const int n = model_.njoints();
     for (int j = 0; j < n; ++j)
       if (j < opt_.posture.size()) st_.q[7 + j] = opt_.posture[j];
@@ -256,6 +258,12 @@ class WholeBodyGenerator {
   /// One tick at time t with the CoM state `com` (rows c, ċ, c̈; columns world x, y): steps 1–4 of the file comment,
   /// warm-started from the previous tick (t should advance by dt). Returns the new state. No allocation, no exception.
   const State& tick(const FootstepPlan<S>& plan, S t, const ComState& com) { return run_tick(plan, t, com, true); }
+
+  /// `tick` without the contact inverse dynamics (τ, the wrenches, `ok`, the CoP are left as they were): what a
+  /// second-stage pass needs (the multibody ZMP comes from RNEA alone).
+  const State& tick_kinematics(const FootstepPlan<S>& plan, S t, const ComState& com) {
+    return run_tick(plan, t, com, true, false);
+  }
 
  private:
   static const WholeBodyOptions<S>& checked(const ModelT& model, const WholeBodyFrames& f,
@@ -316,7 +324,7 @@ class WholeBodyGenerator {
     return R;
   }
 
-  const State& run_tick(const FootstepPlan<S>& plan, S t, const ComState& com, bool predict) {
+  const State& run_tick(const FootstepPlan<S>& plan, S t, const ComState& com, bool predict, bool dynamics = true) {
     const int n = model_.njoints();
     const S ground = plan.parameters().ground_height;
     const FootState<S> fl = plan.foot(Foot::left, t), fr = plan.foot(Foot::right, t);
@@ -414,6 +422,9 @@ class WholeBodyGenerator {
     ContactData<ModelT>& cd = st_.contact[0] ? (st_.contact[1] ? cd_both_ : cd_left_) : cd_right_;
     const Vector3<S> zmb = multibody_zmp(model_, data_, st_.q, st_.v, st_.a, ground);
     st_.zmp_multibody = zmb.template head<2>();
+    const S zg = opt_.preview.com_height / opt_.preview.gravity;
+    st_.zmp_cart_table = Vec2<S>(com(0, 0) - zg * com(2, 0), com(0, 1) - zg * com(2, 1));
+    if (!dynamics) return st_;
     contact_inverse_dynamics(model_, data_, cd, st_.q, st_.v, st_.a);
     st_.tau = cd.tau;
     st_.ok = cd.ok;
@@ -427,8 +438,6 @@ class WholeBodyGenerator {
         st_.wrench[static_cast<std::size_t>(f)] = cd.lambda.template segment<6>(r);
         r += 6;
       }
-    const S zg = opt_.preview.com_height / opt_.preview.gravity;
-    st_.zmp_cart_table = Vec2<S>(com(0, 0) - zg * com(2, 0), com(0, 1) - zg * com(2, 1));
     return st_;
   }
 
@@ -459,7 +468,7 @@ struct WholeBodyPass {
   S zmp_error_ct_max = S(0);     ///< max_k ‖p_mb − p_ct‖: the multibody error against the cart-table ZMP
   S zmp_error_ct_rms = S(0);
   S min_margin = S(0);           ///< min_k margin of p_mb in the support polygon (m; > 0 inside)
-  int not_ok = 0;                ///< ticks where contact_inverse_dynamics found no physical split
+  int not_ok = 0;                ///< last pass: ticks where contact_inverse_dynamics found no physical split
   S seconds = S(0);              ///< wall-clock time of the pass
 };
 
@@ -542,7 +551,7 @@ WholeBodyRun<ModelT> run_whole_body(const ModelT& model, const WholeBodyFrames& 
       com.row(1) = run.first_stage.com_velocity.row(k) + ddc.row(k);
       com.row(2) = run.first_stage.com_acceleration.row(k) + dddc.row(k);
       const auto tk = last ? Clock::now() : Clock::time_point{};
-      const WholeBodyState<ModelT>& st = gen.tick(plan, t, com);
+      const WholeBodyState<ModelT>& st = last ? gen.tick(plan, t, com) : gen.tick_kinematics(plan, t, com);
       if (last) tick_max = std::max(tick_max, std::chrono::duration<S>(Clock::now() - tk).count());
       pmb.row(k) = st.zmp_multibody.transpose();
       const Vec2<S> pref = ref.row(k).transpose();
@@ -553,7 +562,7 @@ WholeBodyRun<ModelT> run_whole_body(const ModelT& model, const WholeBodyFrames& 
       err2 += e * e;
       errct2 += ect * ect;
       ps.min_margin = std::min(ps.min_margin, plan.margin(t, st.zmp_multibody));
-      if (!st.ok) ++ps.not_ok;
+      if (last && !st.ok) ++ps.not_ok;
       if (last) {
         WholeBodyState<ModelT>& out = run.samples[static_cast<std::size_t>(k)];
         out = st;
