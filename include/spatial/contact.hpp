@@ -153,7 +153,9 @@ struct ContactData {
     Y = MatrixX::Zero(nv, m);
     DY = MatrixX::Zero(nv, m);
     K = MatrixX::Zero(m, m);
-    llt = Eigen::LLT<MatrixX>(m);
+    // Factorise an identity once: sizes the factor's storage and sets its status (a freshly constructed LLT's status
+    // is uninitialised, and copying one is undefined behaviour).
+    llt.compute(MatrixX::Identity(m, m));
     lambda = VectorX::Zero(m);
     rhs = VectorX::Zero(m);
     drift = VectorX::Zero(m);
