@@ -1,6 +1,7 @@
 // The walking generator's per-tick call (walking/preview.hpp: PreviewController::step), the plan's queries
-// (walking/footsteps.hpp: foot, zmp_reference, margin) and the simulator's step (walking/simulation.hpp: with and
-// without contacts, with an impact) never allocate once built. Guarded by Eigen's run-time check
+// (walking/footsteps.hpp: foot, zmp_reference, margin), the simulator's step (walking/simulation.hpp: with and
+// without contacts, with an impact) and the whole-body tick (walking/whole_body.hpp: IK, differential IK, contact
+// inverse dynamics, multibody ZMP) never allocate once built. Guarded by Eigen's run-time check
 // and by the counting global operator new of nomalloc_algorithms.cpp (same executable).
 
 #include <spatial/spatial.hpp>
@@ -50,6 +51,30 @@ TEST(NoMallocWalking, SimulatorSteps) {
   sim.step(zero, 0u);  // flying
   sim.reset(q, zero, 3u);
   g_sink = g_sink + sim.q().sum() + sim.v().sum();
+  EXPECT_EQ(guard.new_calls(), 0);
+}
+
+TEST(NoMallocWalking, WholeBodyTicks) {
+  namespace fb = spatial::models::hoap3_floating;
+  const auto model = fb::floating_model<double>().to_runtime();
+  auto options = hoap3_whole_body_options<double>(fb::joint_names);
+  options.preview.dt = 0.005;
+  GaitParameters<double> g;
+  g.steps = 1;
+  const FootstepPlan<double> plan(g);
+  PreviewController<double> ctl(options.preview);
+  const auto zref = sample_zmp_reference(plan, options.preview.dt);
+  const PreviewTrajectory<double> pt = run_preview(ctl, zref);
+  WholeBodyGenerator<spatial::FloatingModel<double>> gen(
+      model, {fb::frame_index("L_SOLE"), fb::frame_index("R_SOLE"), fb::frame_index("base_link")},
+      spatial::ik_limits(fb::lower), spatial::ik_limits(fb::upper), options);
+  gen.start(plan, zref.row(0).transpose());
+  Eigen::Matrix<double, 3, 2> c;
+  NoAllocationRegion guard;
+  for (int k = 0; k < static_cast<int>(pt.com.rows()); k += 10) {  // standing, double and single support
+    c << pt.com.row(k), pt.com_velocity.row(k), pt.com_acceleration.row(k);
+    g_sink = g_sink + gen.tick(plan, k * options.preview.dt, c).tau.sum();
+  }
   EXPECT_EQ(guard.new_calls(), 0);
 }
 

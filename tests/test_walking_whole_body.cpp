@@ -11,6 +11,8 @@
 #include <spatial/models/hoap3_floating.hpp>
 #include <spatial/walking/whole_body.hpp>
 
+#include "support/compile_time_trees.hpp"  // SPATIAL_TEST_COMPILE_TIME_TREES: 0 in the sanitizer build
+
 #include <gtest/gtest.h>
 
 #include <array>
@@ -25,7 +27,15 @@ namespace {
 
 namespace fb = spatial::models::hoap3_floating;
 using namespace spatial::walking;
+// The compile-time tree, except in the sanitizer build (support/compile_time_trees.hpp), which runs the same
+// pipeline on the run-time twin.
+#if SPATIAL_TEST_COMPILE_TIME_TREES
 using FM = spatial::FloatingModel<double, fb::Tree>;
+FM make_model() { return fb::floating_model(); }
+#else
+using FM = spatial::FloatingModel<double>;
+FM make_model() { return fb::floating_model().to_runtime(); }
+#endif
 using V2 = Eigen::Vector2d;
 using V3 = Eigen::Vector3d;
 
@@ -44,7 +54,7 @@ GaitParameters<double> short_gait() {
 }
 
 struct ShortWalk {
-  FM model = fb::floating_model();
+  FM model = make_model();
   FootstepPlan<double> plan{short_gait()};
   WholeBodyOptions<double> options;
   WholeBodyRun<FM> run;
@@ -70,8 +80,8 @@ TEST(WholeBodySetup, SoleFrameIsTheCentreOfTheDataSheetSole) {
   // The data sheet's sole: x ∈ [−40, 68] mm from the point under the ankle-roll axis, 73 mm wide and centred 5 mm
   // outboard, 40 mm below the axis. The URDF's sole frames are that centre: the ankle is 14 mm behind, 5 mm inboard
   // and 40 mm above their origin, and their axes are the pelvis's at q = 0 (x forward, z up).
-  const FM model = fb::floating_model();
-  spatial::FloatingData<double, fb::Tree> data(model);
+  const FM model = make_model();
+  spatial::FloatingData<double, FM::tree_type> data(model);
   const auto q = spatial::neutral(model);
   spatial::forward_kinematics(model, data, q);
   for (const char* name : {"L_SOLE", "R_SOLE"}) {
@@ -108,7 +118,7 @@ TEST(WholeBodySetup, Hoap3MotorTorquesFromTheDataSheet) {
 }
 
 TEST(WholeBodySetup, BadFramesAndVectorsAreRejected) {
-  const FM model = fb::floating_model();
+  const FM model = make_model();
   const auto lo = spatial::ik_limits(fb::lower), hi = spatial::ik_limits(fb::upper);
   auto o = hoap3_whole_body_options<double>(fb::joint_names);
   WholeBodyFrames f = hoap3_frames();
@@ -127,7 +137,7 @@ TEST(WholeBodySetup, BadFramesAndVectorsAreRejected) {
 TEST(WholeBodyWalk, IkConvergesAtEveryTickAndTheFeetFollowThePlan) {
   const ShortWalk& w = walk();
   EXPECT_TRUE(w.run.start.converged);
-  spatial::FloatingData<double, fb::Tree> data(w.model);
+  spatial::FloatingData<double, FM::tree_type> data(w.model);
   const WholeBodyFrames fr = hoap3_frames();
   const double zc = w.options.preview.com_height;
   double foot = 0.0, com = 0.0, pelvis = 0.0, limits = 0.0;
@@ -187,7 +197,7 @@ TEST(WholeBodyWalk, VelocitiesAndAccelerationsAreTheDerivativesOfTheConfiguratio
 
 TEST(WholeBodyWalk, StanceSolesDoNotMoveAndSwingSolesFollowTheirTrajectories) {
   const ShortWalk& w = walk();
-  spatial::FloatingData<double, fb::Tree> data(w.model);
+  spatial::FloatingData<double, FM::tree_type> data(w.model);
   const WholeBodyFrames fr = hoap3_frames();
   const auto LWA = spatial::ReferenceFrame::LocalWorldAligned;
   double stance_v = 0.0, stance_a = 0.0, swing_a = 0.0;
@@ -254,7 +264,7 @@ TEST(WholeBodyWalk, ContactInverseDynamicsFindsAPhysicalSplitWhoseCopIsTheMultib
   EXPECT_GE(foot_cop, -1e-9);
   EXPECT_LE(weight, 0.2);
   // independently: the multibody ZMP of the stored state by zmp.hpp
-  spatial::FloatingData<double, fb::Tree> data(w.model);
+  spatial::FloatingData<double, FM::tree_type> data(w.model);
   const auto& s = w.run.samples[w.run.samples.size() / 2];
   const V3 p = spatial::multibody_zmp(w.model, data, s.q, s.v, s.a, 0.0);
   EXPECT_NEAR((p.head<2>() - s.zmp_multibody).norm(), 0.0, 1e-12);
@@ -302,7 +312,7 @@ TEST(WholeBodyWalk, TorquesAgainstTheMotors) {
   EXPECT_GT(sum.torque_max[fb::joint_index("L_LR_L_LAA_joint")], 1.0);
   // torques from the run equal RNEA − Jᵀλ recomputed: spot check one single-support tick through the round trip
   // (constrained forward dynamics with these torques gives back v̇)
-  spatial::FloatingData<double, fb::Tree> data(w.model);
+  spatial::FloatingData<double, FM::tree_type> data(w.model);
   for (const auto& s : w.run.samples) {
     if (s.contact[0] && s.contact[1]) continue;
     const int frame = s.contact[0] ? fb::frame_index("L_SOLE") : fb::frame_index("R_SOLE");
@@ -316,6 +326,7 @@ TEST(WholeBodyWalk, TorquesAgainstTheMotors) {
   }
 }
 
+#if SPATIAL_TEST_COMPILE_TIME_TREES
 TEST(WholeBodyWalk, RunTimeTreeGivesTheSameTicks) {
   const ShortWalk& w = walk();
   const auto rt = w.model.to_runtime();
@@ -343,5 +354,6 @@ TEST(WholeBodyWalk, RunTimeTreeGivesTheSameTicks) {
     ASSERT_NEAR((a.tau - b.tau).cwiseAbs().maxCoeff(), 0.0, 1e-9) << k;
   }
 }
+#endif
 
 }  // namespace

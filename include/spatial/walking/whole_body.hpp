@@ -444,7 +444,7 @@ class WholeBodyGenerator {
   const ModelT& model_;
   WholeBodyFrames frames_;
   WholeBodyOptions<S> opt_;
-  typename spatial::detail::ContactTraits<ModelT>::DataType data_;
+  typename spatial::detail::ModelTraits<ModelT>::DataType data_;
   IkSolver<ModelT> ik_;
   ContactData<ModelT> cd_left_, cd_right_, cd_both_;
   std::vector<int> active_;
