@@ -97,7 +97,7 @@ MISS_NOTES = {
 ALGORITHMS = ["RNEA", "GravityTorques", "BiasForces", "CRBA", "FD_CRBA_LTDL", "FD_CRBA_DenseLLT", "ABA", "FK", "LTDL",
               "JointJacobians", "FrameJacobian", "ComputeFrameJacobian", "ComJacobian", "CentroidalMatrix",
               "RNEA_derivatives", "ABA_derivatives", "RNEA_derivatives_fd", "Minv", "RNEA_derivatives_central",
-              "RNEA_derivatives_ad", "ContactDynamics_6D", "ContactDynamics_2x6D", "ImpulseDynamics_2x6D"]
+              "RNEA_derivatives_ad", "ContactDynamics_6D", "ContactDynamics_2x6D", "ImpulseDynamics_2x6D", "WalkTick"]
 ALGORITHM_TITLES = {
     "RNEA": "RNEA (inverse dynamics)",
     "GravityTorques": "gravity torques",
@@ -117,6 +117,7 @@ ALGORITHM_TITLES = {
     "ContactDynamics_6D": "constrained forward dynamics, one sole welded",
     "ContactDynamics_2x6D": "constrained forward dynamics, both soles welded",
     "ImpulseDynamics_2x6D": "impulse dynamics, both soles (inelastic)",
+    "WalkTick": "one 2 ms tick of the whole-body walking generator",
 }
 PEER_CALLS = {
     ("kdl", "RNEA"): "TreeIdSolver_RNE",
@@ -857,6 +858,15 @@ def write_report(out_dir, compilers, records, time_kind, charts_enabled=True, sc
     w(md_table(["algorithm", "compiler", "compile-time tree", "run-time tree", "Pinocchio", "÷ Pinocchio (ct)",
                 "÷ Pinocchio (rt)"], frows))
     w("")
+    walk = [(c, find(records, compiler=c, model=FLOATING_MODEL, algorithm="WalkTick", scalar="double", tree="static"))
+            for c in compiler_list]
+    walk = [(c, r) for c, r in walk if r]
+    if walk:
+        w("Real time (issue 12): one tick of the whole-body walking generator (`WalkTick`: the preview step, the "
+          "warm-started IK, v and v̇ by differential IK, contact inverse dynamics and the multibody ZMP) takes " +
+          ", ".join(f"{fmt_ns(r['ns'])} ({100.0 * r['ns'] / 2e6:.2f} % of the 2 ms period) with {c}" for c, r in walk) +
+          " on one core.")
+        w("")
 
     w("## Derivatives (issue 13)")
     w("")
