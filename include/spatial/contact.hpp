@@ -195,8 +195,8 @@ struct ContactData {
 namespace detail {
 /// Rows, drift, velocity and position errors of every contact, from the kinematics left by
 /// `compute_joint_jacobians_time_variation` (or, without `Drift`, `compute_joint_jacobians`).
-template <bool Drift, class ModelT, class DataT, class V>
-void contact_rows(const ModelT& model, const DataT& data, ContactData<ModelT>& cd, const Eigen::MatrixBase<V>& v) {
+template <bool Drift, class ModelT, class DataT>
+void contact_rows(const ModelT& model, const DataT& data, ContactData<ModelT>& cd) {
   using S = typename ModelT::Scalar;
   const auto k = kin(model, data);
   int r = 0;
@@ -226,7 +226,6 @@ void contact_rows(const ModelT& model, const DataT& data, ContactData<ModelT>& c
         cd.position_error.template segment<3>(r) = Xfw.r - c.target_position;
       }
     }
-    (void)v;
     r += c.dim();
   }
 }
@@ -321,7 +320,6 @@ void contact_generators(ContactData<ModelT>& cd) {
 template <class S, class AM, class W, class B>
 bool nonnegative_min_norm(const Eigen::MatrixBase<AM>& A, const Eigen::MatrixBase<W>& w, Eigen::MatrixBase<B>& beta,
                           int& iterations) {
-  using std::sqrt;
   const int n = static_cast<int>(A.cols());
   const S scale = A.cwiseAbs().maxCoeff();
   const S tol = S(64) * Eigen::NumTraits<S>::epsilon() * (w.norm() + S(1)) * (scale + S(1));
@@ -366,7 +364,7 @@ const typename ContactData<ModelT>::VectorV& constrained_forward_dynamics(const 
                                                                          const Eigen::MatrixBase<Tau>& tau) {
   using S = typename ModelT::Scalar;
   compute_joint_jacobians_time_variation(model, data, q, v);
-  detail::contact_rows<true>(model, data, cd, v);
+  detail::contact_rows<true>(model, data, cd);
   forward_dynamics_crba(model, data, q, v, tau);  // v̇_free in data.qdd, the factor in data.L
   detail::contact_inverse_inertia(model, data, cd);
   int r = 0;
@@ -393,7 +391,7 @@ const typename ContactData<ModelT>::VectorV& impulse_dynamics(const ModelT& mode
                                                              typename ModelT::Scalar restitution = 0) {
   using S = typename ModelT::Scalar;
   compute_joint_jacobians(model, data, q);
-  detail::contact_rows<false>(model, data, cd, v_before);
+  detail::contact_rows<false>(model, data, cd);
   crba(model, data, q);
   ltdl(model, data);
   detail::contact_inverse_inertia(model, data, cd);
@@ -425,7 +423,7 @@ const typename ContactData<FloatingModel<S, T>>::VectorV& contact_inverse_dynami
     const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<V>& v, const Eigen::MatrixBase<A>& a) {
   cd.tau = rnea(model, data, q, v, a);
   compute_joint_jacobians(model, data, q);
-  detail::contact_rows<false>(model, data, cd, v);
+  detail::contact_rows<false>(model, data, cd);
   detail::contact_generators(cd);
   cd.A.noalias() = cd.J.leftCols(6).transpose() * cd.G;
   const Vector6<S> w = cd.tau.template head<6>();
