@@ -10,3 +10,4 @@
 #include "spatial/walking/preview.hpp"
 #include "spatial/walking/simulation.hpp"
 #include "spatial/walking/whole_body.hpp"
+#include "spatial/walking/closed_loop.hpp"
