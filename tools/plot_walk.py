@@ -137,12 +137,12 @@ def plot_torques(plt, c, s, joints, out):
         ax.tick_params(labelsize=7)
         if k % ncols == 0:
             ax.set_ylabel("|τ| [N m]", fontsize=8)
-        if k // ncols == nrows - 1 or k + ncols >= len(joints):
+        if k + ncols >= len(joints):  # the lowest panel of its column
             ax.set_xlabel("time [s]", fontsize=8)
             ax.tick_params(labelbottom=True)
     worst = max(s["torques"], key=lambda e: e["rated_ratio"], default=None)
-    extra = (f"; worst {short(worst['joint'])}: {worst['rated_ratio']:.2f} × rated, {worst['max_ratio']:.2f} × maximum"
-             if worst else "")
+    extra = (f"; worst {short(worst['joint'])}: {worst['rated_ratio']:.2f} × rated, "
+             f"{worst['max_ratio']:.2f} × maximum" if worst else "")
     fig.suptitle(f"Applied joint torques, closed loop ({describe(s['parameters'])}): |τ| against the motor's rated "
                  f"(orange dashed) and maximum (red dotted) torque{extra}", fontsize=10)
     fig.tight_layout()
