@@ -11,7 +11,11 @@
 #      plotted by tools/plot_scenes.py (skipped without matplotlib).
 #   5. The iLQR example of the derivatives (`spatial-ilqr`, first compiler's build) into build/report/ilqr/, plotted
 #      by tools/plot_ilqr.py (skipped without matplotlib).
-#   6. tools/report.py: build/report/report.md, summary.json and the PNG charts; prints the headline table.
+#   6. The closed-loop walk of the HOAP-3 (`spatial-dyn walk`, first compiler's build), four variants: build/report/
+#      walk (8 steps straight), walk_turn (--turn 0.15), walk_no_second_stage (--second-stage 0) and walk_pendulum
+#      (--zmp-model double-pendulum); spatial-dyn plots each by tools/plot_walk.py with $SPATIAL_PYTHON (set here
+#      to build/venv's python when it has matplotlib). A variant that fails is reported and does not stop the run.
+#   7. tools/report.py: build/report/report.md, summary.json and the PNG charts; prints the headline table.
 #
 # Extra arguments are passed to every benchmark binary, e.g.  scripts/main.sh --benchmark_filter=stance21
 # Environment: JOBS (build parallelism, default 2), REPETITIONS (default 5), MIN_TIME (seconds per repetition,
@@ -41,7 +45,7 @@ mkdir -p "$raw_dir"
 # Both compilers' builds run at the same time: each build ends on a few long translation units (bench_pinocchio
 # alone takes ~3 CPU minutes) during which one of its jobs idles, and the other build fills that core (on an idle
 # 2-core machine, 640 s one after the other against ~500 s together). The first compiler's build also makes
-# spatial-dyn, which the scenes need (a minute of one core when it was built at the end). Logs:
+# spatial-dyn, which the scenes and the walks need (a minute of one core when it was built at the end). Logs:
 # build/report/raw/build-<compiler>.log.
 first_compiler=${compilers%% *}
 build_pids=()
@@ -117,6 +121,23 @@ stage "iLQR example (spatial-ilqr, $scene_build)"
 rm -rf "$report_dir/ilqr"
 "$scene_build/bin/spatial-ilqr" --out "$report_dir/ilqr"
 "$python" tools/plot_ilqr.py "$report_dir/ilqr"
+
+stage "walking (spatial-dyn walk, $scene_build)"
+# spatial-dyn runs tools/plot_walk.py with $SPATIAL_PYTHON (default python3): the venv's, when it has matplotlib.
+if [[ "$python" != python3 ]]; then
+  export SPATIAL_PYTHON="$PWD/$python"
+fi
+run_walk() {
+  local name=$1
+  shift
+  rm -rf "${report_dir:?}/$name"
+  "$scene_build/bin/spatial-dyn" walk --out "$report_dir/$name" "$@" ||
+    echo "main.sh: spatial-dyn walk --out $report_dir/$name $* failed; going on" >&2
+}
+run_walk walk
+run_walk walk_turn --turn 0.15
+run_walk walk_no_second_stage --second-stage 0
+run_walk walk_pendulum --zmp-model double-pendulum
 
 stage "report"
 "$python" tools/report.py --input "$raw_dir" --output "$report_dir"

@@ -14,7 +14,9 @@ per iteration (--time real: wall time). CPU time is the default because the mach
 process accumulates wall time but not CPU time.
 
 Charts need matplotlib (scripts/peers.sh installs it into build/venv); without it the tables are still written.
-The "Scenes" section reads <output>/scenes/*.json (spatial-dyn scene all; plots by tools/plot_scenes.py).
+The "Scenes" section reads <output>/scenes/*.json (spatial-dyn scene all; plots by tools/plot_scenes.py); the
+"Walking (closed loop)" section reads <output>/walk*/walk.json (spatial-dyn walk; plots by tools/plot_walk.py) and adds
+a record of kind "walking" to summary.json.
 Usage: tools/report.py [--input build/report/raw] [--output build/report] [--time cpu|real] [--scenes DIR]
 """
 
@@ -280,6 +282,10 @@ def fmt_err(e):
     if e is None:
         return "–"
     return f"{e:.2e}"
+
+
+def fmt_mm(metres):
+    return f"{metres * 1e3:.1f}"
 
 
 def md_table(header, rows):
@@ -751,6 +757,85 @@ def ilqr_section(w, ilqr_dir):
         w("")
 
 
+# The variants of `spatial-dyn walk` that scripts/main.sh runs, in table order (any other <output>/walk*/ follows).
+WALK_VARIANTS = ["walk", "walk_turn", "walk_no_second_stage", "walk_pendulum"]
+
+
+def read_walks(out_dir):
+    """{directory name: walk.json} for every <out_dir>/walk*/walk.json, main.sh's variants first."""
+    names = sorted(n for n in os.listdir(out_dir) if n.startswith("walk")) if os.path.isdir(out_dir) else []
+    walks = {}
+    for n in sorted(names, key=lambda n: (WALK_VARIANTS.index(n) if n in WALK_VARIANTS else len(WALK_VARIANTS), n)):
+        path = os.path.join(out_dir, n, "walk.json")
+        if not os.path.exists(path):
+            continue
+        try:
+            with open(path) as f:
+                walks[n] = json.load(f)
+        except (OSError, ValueError) as e:
+            print(f"report.py: skipping {path}: {e}", file=sys.stderr)
+    return walks
+
+
+def walking_section(w, out_dir):
+    """The closed-loop walk of the HOAP-3 (`spatial-dyn walk`, variants written by scripts/main.sh into
+    build/report/walk*/): one table row per variant, the plots of the default walk. Returns the summary.json record
+    of the default walk (None without it)."""
+    walks = read_walks(out_dir)
+    if not walks:
+        return None
+    w("## Walking (closed loop)")
+    w("")
+    w("`spatial-dyn walk` (include/spatial/walking/, docs/walking.md): the HOAP-3 with a floating base walks its "
+      "footstep plan. Open loop, the whole-body generator turns the preview controller's cart-table CoM into joint "
+      "motion and torques, and the second stage (`--second-stage N` passes) corrects the CoM against the ZMP of the "
+      "ZMP model (the whole multibody, or the double pendulum); the open-loop column is the multibody ZMP's error "
+      "against the reference after the last pass. Closed loop, the controller's joint torques (PD gains from "
+      "`pd_frequency`) drive the rigid-contact simulator (walking/simulation.hpp: contacts made and broken at the "
+      "plan's instants, impacts by impulse dynamics). Margins: distance of the simulated centre of pressure inside "
+      "the support polygon (CoP) and inside the sole in contact (sole CoP); the friction ratio abs(F_t)/F_n is against "
+      "μ; torque ratio: the closed loop's peak abs(τ) over the motor's rated torque. One row per variant that ran "
+      "(scripts/main.sh: default, turning, without the second stage, double-pendulum ZMP model).")
+    w("")
+    rows = []
+    for n, s in walks.items():
+        p, cl, t = s["parameters"], s["closed_loop"], s["timings"]
+        last = (s["open_loop"].get("passes") or [None])[-1]
+        worst = max(s.get("torques", []), key=lambda e: e["rated_ratio"], default=None)
+        turn = f", turn {p['turn']:g} rad" if p.get("turn") else ""
+        rows.append([n, f"{p['steps']} × {p['length'] * 1e3:.0f} mm{turn}, {p['zmp_model'].replace('_', ' ')}, "
+                        f"second stage {p['second_stage_iterations']}",
+                     "yes" if cl["walked"] else "**no**", f"{cl['steps_completed']}/{p['steps']}",
+                     fmt_mm(cl["cop_min_margin"]), fmt_mm(cl["sole_cop_min_margin"]), f"{cl['min_normal_force']:.1f}",
+                     f"{cl['max_friction_ratio']:.2f} (μ {p['friction']:g})", fmt_mm(cl["pelvis_final_error"]),
+                     f"{cl['joint_error_max']:.3g}",
+                     f"{fmt_mm(last['zmp_error_max'])} / {fmt_mm(last['zmp_error_rms'])}" if last else "–",
+                     f"{worst['rated_ratio']:.2f} ({worst['joint'].replace('_joint', '')})" if worst else "–",
+                     f"{t['tick_fraction']:.1e}"])
+    w(md_table(["variant", "plan", "walked", "steps", "CoP min margin [mm]", "sole CoP min margin [mm]",
+                "min F_n [N]", "max abs(F_t)/F_n", "pelvis final error [mm]", "joint error max [rad]",
+                "open-loop ZMP error max / RMS [mm]", "max abs(τ)/rated (joint)", "tick ÷ 2 ms"], rows))
+    w("")
+    default = walks.get("walk")
+    if default is None:
+        return None
+    t = default["timings"]
+    w(f"Default walk, wall time on this shared machine: one 2 ms control tick {t['tick_us']:.1f} µs, i.e. "
+      f"{t['tick_fraction']:.1e} of the 2 ms period; one simulation step "
+      f"({default['parameters']['simulation_dt'] * 1e3:g} ms) {t['simulation_step_us']:.1f} µs; the open-loop plan "
+      f"{t['open_loop_s']:.2f} s and the closed loop {t['closed_loop_s']:.2f} s for {default['duration']:.2f} s "
+      f"walked ({t['closed_loop_s'] / default['duration']:.2f} of real time).")
+    w("")
+    for name, title in (("walk_top.png", "top view: footprints, ZMP, centre of pressure, CoM"),
+                        ("walk_zmp_error.png", "ZMP errors, CoP margin and normal forces"),
+                        ("walk_torques.png", "joint torques against the rated and maximum torques")):
+        if os.path.exists(os.path.join(out_dir, "walk", name)):
+            w(f"![walk: {title}](walk/{name})")
+            w("")
+    return {"kind": "walking", "robot": default.get("robot"), "variant": "walk",
+            "walking": {"closed_loop": default["closed_loop"], "timings": default["timings"]}}
+
+
 def write_report(out_dir, compilers, records, time_kind, charts_enabled=True, scenes_dir=None):
     os.makedirs(out_dir, exist_ok=True)
     notes = []
@@ -1117,6 +1202,7 @@ def write_report(out_dir, compilers, records, time_kind, charts_enabled=True, sc
 
     scenes_section(w, scenes_dir or os.path.join(out_dir, "scenes"), out_dir)
     ilqr_section(w, os.path.join(out_dir, "ilqr"))
+    walking = walking_section(w, out_dir)
 
     if charts:
         w("## Charts")
@@ -1140,7 +1226,7 @@ def write_report(out_dir, compilers, records, time_kind, charts_enabled=True, sc
     with open(os.path.join(out_dir, "report.md"), "w") as f:
         f.write("\n".join(lines))
     with open(os.path.join(out_dir, "summary.json"), "w") as f:
-        json.dump(records, f, indent=1)
+        json.dump(records + ([walking] if walking else []), f, indent=1)
     return notes
 
 
