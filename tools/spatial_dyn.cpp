@@ -11,6 +11,7 @@
 //   spatial-dyn zmp  --urdf FILE [MODEL OPTIONS] --in STATES.csv [--out OUT.csv] [--echo]
 //   spatial-dyn info --urdf FILE [MODEL OPTIONS]
 //   spatial-dyn scene NAME|all [--out DIR]      the reference study's experiments (tools/scenes.hpp)
+//   spatial-dyn walk [--steps N ... --out DIR]  the HOAP-3's closed-loop walk (tools/walk_run.hpp)
 //   MODEL OPTIONS: --root LINK  --subtree LINK  --lock JOINT=ANGLE,...  --gravity gx,gy,gz  --gravity-frame root|urdf
 //                  --floating (the root link flies free: free-flyer columns floating_base:x … qw, :vx … wz)
 //                  --strict-inertia
@@ -58,6 +59,7 @@
 
 #include "cli_common.hpp"
 #include "scene_run.hpp"
+#include "walk_run.hpp"
 
 #include <spatial/spatial.hpp>
 #include <spatial/urdf.hpp>
@@ -96,6 +98,8 @@ const char* kUsage =
     "       spatial-dyn zmp  --urdf FILE [MODEL OPTIONS] --in STATES.csv [--out OUT.csv] [--echo]\n"
     "       spatial-dyn info --urdf FILE [MODEL OPTIONS]\n"
     "       spatial-dyn scene NAME|all [--out DIR]\n"
+    "       spatial-dyn walk [--steps N --length M --width M --period S --double-support F --turn RAD\n"
+    "                        --second-stage N --com-height M --out DIR]\n"
     "MODEL OPTIONS: --root LINK  --subtree LINK  --lock JOINT=ANGLE,...  --gravity gx,gy,gz  --gravity-frame root|urdf\n"
     "               --floating  --strict-inertia\n"
     "\n"
@@ -127,6 +131,14 @@ const char* kUsage =
     "  scene the reference study's experiments on the HOAP-3 reference models (no URDF needed): torso_arms,\n"
     "        torso_strokes, circles, step, pendulum, or all; writes DIR/NAME.csv and DIR/NAME.json (default DIR:\n"
     "        build/report/scenes)\n"
+    "  walk  the HOAP-3 walks (no URDF needed): a footstep plan (--steps 8, --length 0.05 m, --width 0.088 m,\n"
+    "        --period 1 s, --double-support 0.2 of the period, --turn 0 rad per step), the two-stage ZMP preview\n"
+    "        control (--second-stage 3 passes, 0: the first stage alone; --com-height 0.29 m) and the whole-body motion,\n"
+    "        then the closed-loop simulation (1 ms, contacts at the plan's instants, feed-forward + joint PD). Writes\n"
+    "        DIR/walk.csv (per 2 ms tick: q, qd, qdd, tau, contact wrenches, reference / cart-table / multibody ZMP,\n"
+    "        CoP, CoM, pelvis), DIR/walk.json (margins, errors, torque ratios, timings) and the PNGs of\n"
+    "        tools/plot_walk.py (run with $SPATIAL_PYTHON, default python3; needs matplotlib) (default DIR:\n"
+    "        build/report/walk). Exit status 0 when the walk was simulated, whether or not the robot walked.\n"
     "\n"
     "CSV: a header row, one sample per line, columns in any order named by the URDF joint names; other columns are\n"
     "ignored (--echo copies them to the output); columns of joints the model does not move (fixed, locked, outside\n"
@@ -743,9 +755,54 @@ int run_scenes(int argc, char** argv) {
   return 0;
 }
 
+/// `spatial-dyn walk`: the HOAP-3's closed-loop walk (walk_run.hpp).
+int run_walk(int argc, char** argv) {
+  const cli::Options opts(argc, argv, 2,
+                          {"--steps", "--length", "--width", "--period", "--double-support", "--turn", "--second-stage",
+                           "--com-height", "--zmp-model", "--out"},
+                          {});
+  walk_cli::WalkRequest req;
+  const auto number = [&](const char* name, double& out) {
+    if (const auto v = opts.get(name)) {
+      const auto x = cli::parse_double(*v);
+      if (!x) throw UsageError(std::string(name) + ": '" + *v + "' is not a number");
+      out = *x;
+    }
+  };
+  const auto integer = [&](const char* name, int& out) {
+    double x = out;
+    number(name, x);
+    if (x != std::floor(x) || x < 0 || x > 1000)
+      throw UsageError(std::string(name) + ": expected a whole number in [0, 1000], got " + cli::format_double(x));
+    out = static_cast<int>(x);
+  };
+  integer("--steps", req.gait.steps);
+  number("--length", req.gait.step_length);
+  number("--width", req.gait.step_width);
+  number("--period", req.gait.period);
+  number("--double-support", req.gait.double_support_ratio);
+  number("--turn", req.gait.turn);
+  integer("--second-stage", req.second_stage);
+  number("--com-height", req.com_height);
+  if (opts.get("--com-height") && !(req.com_height > 0.0)) throw UsageError("--com-height: expected a height > 0 (m)");
+  const std::string zmp_model = opts.get("--zmp-model").value_or("multibody");
+  if (zmp_model != "multibody")
+    throw UsageError("--zmp-model: only 'multibody' is available (the double pendulum's is not built yet), got '" +
+                     zmp_model + "'");
+  req.dir = opts.get("--out").value_or("build/report/walk");
+  try {
+    walk_cli::run_walk(req);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(std::string("walk: ") + e.what());
+  }
+  const int rc = walk_cli::plot_walk(req.dir, SPATIAL_PLOT_WALK);
+  if (rc != 0) throw InputError("walk: tools/plot_walk.py failed (exit status " + std::to_string(rc) + ")");
+  return 0;
+}
+
 int run(int argc, char** argv) {
   if (argc < 2)
-    throw UsageError("no subcommand (id, fd, crba, jacobian, com, derivatives, zmp, info or scene; try --help)");
+    throw UsageError("no subcommand (id, fd, crba, jacobian, com, derivatives, zmp, info, scene or walk; try --help)");
   const std::string sub = argv[1];
   if (sub == "--help" || sub == "-h" || sub == "help") {
     std::cout << kUsage;
@@ -758,6 +815,14 @@ int run(int argc, char** argv) {
         return 0;
       }
     return run_scenes(argc, argv);
+  }
+  if (sub == "walk") {
+    for (int i = 2; i < argc; ++i)
+      if (std::string(argv[i]) == "--help" || std::string(argv[i]) == "-h") {
+        std::cout << kUsage;
+        return 0;
+      }
+    return run_walk(argc, argv);
   }
   Command cmd;
   int first_option = 2;
@@ -781,7 +846,7 @@ int run(int argc, char** argv) {
   else if (sub == "info") cmd = Command::Info;
   else
     throw UsageError("unknown subcommand '" + sub +
-                     "' (id, fd, crba, jacobian, com, derivatives, zmp, info or scene; try --help)");
+                     "' (id, fd, crba, jacobian, com, derivatives, zmp, info, scene or walk; try --help)");
   for (int i = first_option; i < argc; ++i)
     if (std::string(argv[i]) == "--help" || std::string(argv[i]) == "-h") {
       std::cout << kUsage;
