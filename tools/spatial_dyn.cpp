@@ -99,7 +99,7 @@ const char* kUsage =
     "       spatial-dyn info --urdf FILE [MODEL OPTIONS]\n"
     "       spatial-dyn scene NAME|all [--out DIR]\n"
     "       spatial-dyn walk [--steps N --length M --width M --period S --double-support F --turn RAD\n"
-    "                        --second-stage N --com-height M --out DIR]\n"
+    "                        --second-stage N --com-height M --zmp-model multibody|double-pendulum --out DIR]\n"
     "MODEL OPTIONS: --root LINK  --subtree LINK  --lock JOINT=ANGLE,...  --gravity gx,gy,gz  --gravity-frame root|urdf\n"
     "               --floating  --strict-inertia\n"
     "\n"
@@ -133,7 +133,8 @@ const char* kUsage =
     "        build/report/scenes)\n"
     "  walk  the HOAP-3 walks (no URDF needed): a footstep plan (--steps 8, --length 0.05 m, --width 0.088 m,\n"
     "        --period 1 s, --double-support 0.2 of the period, --turn 0 rad per step), the two-stage ZMP preview\n"
-    "        control (--second-stage 3 passes, 0: the first stage alone; --com-height 0.29 m) and the whole-body motion,\n"
+    "        control (--second-stage 3 passes, 0: the first stage alone; --com-height 0.29 m; --zmp-model: the ZMP the\n"
+    "        second stage feeds back, the full model's or the double inverted pendulum's) and the whole-body motion,\n"
     "        then the closed-loop simulation (1 ms, contacts at the plan's instants, feed-forward + joint PD). Writes\n"
     "        DIR/walk.csv (per 2 ms tick: q, qd, qdd, tau, contact wrenches, reference / cart-table / multibody ZMP,\n"
     "        CoP, CoM, pelvis), DIR/walk.json (margins, errors, torque ratios, timings) and the PNGs of\n"
@@ -786,9 +787,9 @@ int run_walk(int argc, char** argv) {
   number("--com-height", req.com_height);
   if (opts.get("--com-height") && !(req.com_height > 0.0)) throw UsageError("--com-height: expected a height > 0 (m)");
   const std::string zmp_model = opts.get("--zmp-model").value_or("multibody");
-  if (zmp_model != "multibody")
-    throw UsageError("--zmp-model: only 'multibody' is available (the double pendulum's is not built yet), got '" +
-                     zmp_model + "'");
+  if (zmp_model != "multibody" && zmp_model != "double-pendulum")
+    throw UsageError("--zmp-model: expected 'multibody' or 'double-pendulum', got '" + zmp_model + "'");
+  req.double_pendulum = zmp_model == "double-pendulum";
   req.dir = opts.get("--out").value_or("build/report/walk");
   try {
     walk_cli::run_walk(req);

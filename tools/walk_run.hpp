@@ -1,6 +1,6 @@
 #pragma once
 // `spatial-dyn walk [--steps N --length M --width M --period S --double-support F --turn RAD --second-stage N
-// --out DIR]`: the HOAP-3 walks (include/spatial/walking/, docs/walking.md): the footstep plan, the two-stage ZMP
+// --com-height M --zmp-model multibody|double-pendulum --out DIR]`: the HOAP-3 walks (include/spatial/walking/, docs/walking.md): the footstep plan, the two-stage ZMP
 // preview control and the whole-body motion (open loop, run_whole_body), then the closed-loop simulation
 // (run_closed_loop). Writes DIR/walk.csv (one row per 2 ms control tick), DIR/walk.json (the summary) and, through
 // tools/plot_walk.py, the PNGs. Not part of the installed library.
@@ -26,6 +26,7 @@ struct WalkRequest {
   walking::GaitParameters<double> gait{};
   int second_stage = 3;
   double com_height = 0;  ///< m; 0: the HOAP-3 options' 0.29 m
+  bool double_pendulum = false;  ///< the second stage feeds back the double pendulum's ZMP
   std::string dir = "build/report/walk";
 };
 
@@ -42,6 +43,7 @@ inline bool run_walk(const WalkRequest& req) {
   auto options = walking::hoap3_whole_body_options<double>(fb::joint_names);
   options.second_stage_iterations = req.second_stage;
   if (req.com_height > 0) options.preview.com_height = req.com_height;
+  if (req.double_pendulum) options.second_stage_zmp = walking::SecondStageZmp::double_pendulum;
   const walking::FootstepPlan<double> plan(req.gait);  // validates (std::invalid_argument names the parameter)
   const auto open = walking::run_whole_body(model, frames, ik_limits(fb::lower), ik_limits(fb::upper), plan, options);
   const walking::ClosedLoopOptions<double> copt;
@@ -109,7 +111,8 @@ inline bool run_walk(const WalkRequest& req) {
      << ", \"double_support\": " << num(g.double_support_ratio) << ", \"turn\": " << num(g.turn)
      << ", \"swing_height\": " << num(g.swing_height) << ", \"com_height\": " << num(options.preview.com_height)
      << ", \"control_dt\": " << num(options.preview.dt) << ", \"simulation_dt\": " << num(copt.simulation.dt)
-     << ", \"second_stage_iterations\": " << req.second_stage << ", \"zmp_model\": \"multibody\", \"friction\": "
+     << ", \"second_stage_iterations\": " << req.second_stage << ", \"zmp_model\": \"" << (req.double_pendulum ? "double_pendulum" : "multibody")
+     << "\", \"friction\": "
      << num(options.friction) << ", \"pd_frequency\": " << num(copt.pd_frequency) << "},\n";
   js << "  \"sole\": {\"front\": " << num(options.sole.front) << ", \"back\": " << num(options.sole.back)
      << ", \"left\": " << num(options.sole.left) << ", \"right\": " << num(options.sole.right) << "},\n";

@@ -203,7 +203,8 @@ ClosedLoopRun<ModelT> run_closed_loop(const ModelT& model, const WholeBodyFrames
     const auto& b = open.samples[std::min(k + 1, n - 1)];
     qref = (S(1) - alpha) * a.q.tail(nj) + alpha * b.q.tail(nj);
     vref = (S(1) - alpha) * a.v.tail(nj) + alpha * b.v.tail(nj);
-    ff = options.feed_forward ? Vector((S(1) - alpha) * a.tau.tail(nj) + alpha * b.tau.tail(nj)) : Vector::Zero(nj);
+    if (options.feed_forward) ff = (S(1) - alpha) * a.tau.tail(nj) + alpha * b.tau.tail(nj);
+    else ff.setZero();
     q_prev = sim.q();
     v_prev = sim.v();
     sum.joint_error_max = std::max(sum.joint_error_max, (q_prev.tail(nj) - qref).cwiseAbs().maxCoeff());

@@ -87,6 +87,9 @@ struct WholeBodyFrames {
   int pelvis = -1;
 };
 
+/// Which ZMP the second stage feeds back (`WholeBodyOptions::second_stage_zmp`).
+enum class SecondStageZmp { multibody, double_pendulum };
+
 /// Settings of the pipeline. Vectors with one entry per tree joint (n) may be left empty (zeros; no torque report).
 template <class S = double>
 struct WholeBodyOptions {
@@ -100,6 +103,13 @@ struct WholeBodyOptions {
   Eigen::Matrix<S, Eigen::Dynamic, 1> swing;    ///< n: passive joints' swing, rad per unit of s(t)
   Eigen::Matrix<S, Eigen::Dynamic, 1> rated_torque;  ///< n: motor rated torques (N m) for the ratios
   Eigen::Matrix<S, Eigen::Dynamic, 1> max_torque;    ///< n: motor maximum torques (N m)
+  /// The ZMP the second stage feeds back: the full model's (`multibody`, RNEA) or the reference study's double
+  /// inverted pendulum's (`double_pendulum`: two point masses, `pendulum_leg_mass` on the stance hip's pitch axis,
+  /// half on each hip in double support, and the rest at the whole-body CoM; applied in both the sagittal and the
+  /// lateral plane). The passes' statistics always measure the full model's ZMP.
+  SecondStageZmp second_stage_zmp = SecondStageZmp::multibody;
+  S pendulum_leg_mass = S(0);                ///< kg: m1 of the double pendulum
+  std::array<int, 2> pendulum_hips{-1, -1};  ///< bodies (left, right) whose origins are on the hip pitch axes
 };
 
 /// The HOAP-3's settings from /work/shared/hoap3/DATASHEET.md, by joint name (`joint_names` in model order, e.g.
@@ -112,6 +122,7 @@ template <class S = double, class Names>
 WholeBodyOptions<S> hoap3_whole_body_options(const Names& joint_names, S arm_swing = S(10 * EIGEN_PI / 180)) {
   WholeBodyOptions<S> o;
   o.preview.com_height = S(0.29);
+  o.pendulum_leg_mass = S(1.196);  // urdf/double_pendulum.urdf's m1: the leg below the hip pitch joint
   const auto n = static_cast<Eigen::Index>(joint_names.size());
   o.posture = o.swing = o.rated_torque = o.max_torque = Eigen::Matrix<S, Eigen::Dynamic, 1>::Zero(n);
   const auto ends = [](std::string_view s, std::string_view suffix) {
@@ -138,6 +149,7 @@ WholeBodyOptions<S> hoap3_whole_body_options(const Names& joint_names, S arm_swi
     } else if (ends(name, "_LFE_joint")) {
       rated = S(1.5), peak = S(3);
       o.posture[i] = S(-0.4);
+      o.pendulum_hips[left ? 0 : 1] = static_cast<int>(i);  // the hip pitch joint's body: origin on its axis
     } else if (ends(name, "_KN_joint")) {
       rated = S(2), peak = S(4.5);
       o.posture[i] = S(0.8);
@@ -512,6 +524,35 @@ struct WholeBodyRun {
   IkStatus<S> start{};                                 ///< the standing pose's IK
 };
 
+/// The double inverted pendulum's ZMP on the ground plane z = h for the tick `st` (see
+/// `WholeBodyOptions::second_stage_zmp`): point masses m1 on the stance hips (their classical accelerations from
+/// the tick's q, v, v̇) and M − m1 at the CoM (acceleration: the CoM state's, at constant height).
+template <class ModelT, class DataT>
+Vec2<typename ModelT::Scalar> pendulum_zmp(const ModelT& model, DataT& data, const WholeBodyState<ModelT>& st,
+                                           const Eigen::Matrix<typename ModelT::Scalar, 3, 2>& com,
+                                           const WholeBodyOptions<typename ModelT::Scalar>& options,
+                                           typename ModelT::Scalar h) {
+  using S = typename ModelT::Scalar;
+  forward_kinematics(model, data, st.q, st.v, st.a);
+  const S g = model.tree().gravity().norm();
+  const S m1 = options.pendulum_leg_mass;
+  const int stance = int(st.contact[0]) + int(st.contact[1]);
+  S num_x = S(0), num_y = S(0), den = S(0);
+  const auto add = [&](S m, const Vec3<S>& p, const Vec3<S>& a) {
+    num_x += m * (p.x() * (a.z() + g) - (p.z() - h) * a.x());
+    num_y += m * (p.y() * (a.z() + g) - (p.z() - h) * a.y());
+    den += m * (a.z() + g);
+  };
+  for (int f = 0; f < 2; ++f) {
+    if (!st.contact[static_cast<std::size_t>(f)]) continue;
+    const int b = options.pendulum_hips[static_cast<std::size_t>(f)];
+    add(m1 / S(stance), world_transform(data, b).r,
+        body_classical_acceleration(model, data, b, ReferenceFrame::LocalWorldAligned));
+  }
+  add(model.total_mass() - m1, st.com, Vec3<S>(com(2, 0), com(2, 1), S(0)));
+  return Vec2<S>(num_x / den, num_y / den);
+}
+
 /// The whole open-loop pipeline over a plan (see the file comment): first stage, passes of `tick` and second-stage
 /// corrections, statistics. Allocates (the samples); the ticks themselves do not.
 template <class ModelT>
@@ -530,8 +571,14 @@ WholeBodyRun<ModelT> run_whole_body(const ModelT& model, const WholeBodyFrames& 
   PreviewController<S> first(options.preview), second(options.preview);
   run.first_stage = run_preview(first, ref);
   Eigen::Matrix<S, Eigen::Dynamic, 2> dc = Eigen::Matrix<S, Eigen::Dynamic, 2>::Zero(n, 2), ddc = dc, dddc = dc;
-  Eigen::Matrix<S, Eigen::Dynamic, 2> pmb(n, 2);
+  Eigen::Matrix<S, Eigen::Dynamic, 2> pmb(n, 2), pfb(n, 2);
   run.samples.resize(static_cast<std::size_t>(n));
+  const bool pendulum = options.second_stage_zmp == SecondStageZmp::double_pendulum;
+  if (pendulum && (options.pendulum_hips[0] < 0 || options.pendulum_hips[1] < 0 ||
+                   options.pendulum_hips[0] >= model.njoints() || options.pendulum_hips[1] >= model.njoints() ||
+                   !(options.pendulum_leg_mass > S(0) && options.pendulum_leg_mass < model.total_mass())))
+    throw std::invalid_argument("run_whole_body: the double pendulum needs two hip bodies and 0 < m1 < total mass");
+  typename spatial::detail::ModelTraits<ModelT>::DataType pdata(model);
   WholeBodySummary<S>& sum = run.summary;
   sum.ticks = static_cast<int>(n);
   sum.dt = dt;
@@ -554,6 +601,9 @@ WholeBodyRun<ModelT> run_whole_body(const ModelT& model, const WholeBodyFrames& 
       const WholeBodyState<ModelT>& st = last ? gen.tick(plan, t, com) : gen.tick_kinematics(plan, t, com);
       if (last) tick_max = std::max(tick_max, std::chrono::duration<S>(Clock::now() - tk).count());
       pmb.row(k) = st.zmp_multibody.transpose();
+      const Vec2<S> fed =
+          pendulum ? pendulum_zmp(model, pdata, st, com, options, plan.parameters().ground_height) : st.zmp_multibody;
+      pfb.row(k) = fed.transpose();
       const Vec2<S> pref = ref.row(k).transpose();
       const Vec2<S> pct = run.first_stage.zmp.row(k).transpose();
       const S e = (st.zmp_multibody - pref).norm(), ect = (st.zmp_multibody - pct).norm();
@@ -580,7 +630,7 @@ WholeBodyRun<ModelT> run_whole_body(const ModelT& model, const WholeBodyFrames& 
       break;
     }
     // second stage: the cart-table ZMP of the correction tracks e = p_ct − p_mb
-    const Eigen::Matrix<S, Eigen::Dynamic, 2> e = run.first_stage.zmp - pmb;
+    const Eigen::Matrix<S, Eigen::Dynamic, 2> e = run.first_stage.zmp - pfb;
     const PreviewTrajectory<S> corr = run_preview(second, e);
     dc += corr.com;
     ddc += corr.com_velocity;
