@@ -138,6 +138,7 @@ run_walk walk
 run_walk walk_turn --turn 0.15
 run_walk walk_no_second_stage --second-stage 0
 run_walk walk_pendulum --zmp-model double-pendulum
+run_walk walk_public --length 0.087 --period 1.28 --double-support 0.05 --com-height 0.275
 
 stage "report"
 "$python" tools/report.py --input "$raw_dir" --output "$report_dir"

@@ -795,7 +795,7 @@ def walking_section(w, out_dir):
       "plan's instants, impacts by impulse dynamics). Margins: distance of the simulated centre of pressure inside "
       "the support polygon (CoP) and inside the sole in contact (sole CoP); the friction ratio abs(F_t)/F_n is against "
       "μ; torque ratio: the closed loop's peak abs(τ) over the motor's rated torque. One row per variant that ran "
-      "(scripts/main.sh: default, turning, without the second stage, double-pendulum ZMP model).")
+      "(scripts/main.sh: default, turning, without the second stage, double-pendulum ZMP model, the data sheet's public walk).")
     w("")
     rows = []
     for n, s in walks.items():
