@@ -8,7 +8,7 @@
 #include <spatial/models/hoap3_floating.hpp>
 #include <spatial/walking/closed_loop.hpp>
 
-#include "support/compile_time_trees.hpp"  // SPATIAL_TEST_COMPILE_TIME_TREES: 0 in the sanitizer build
+#include "support/walking_hoap3.hpp"
 
 #include <gtest/gtest.h>
 
@@ -20,17 +20,10 @@ namespace {
 
 namespace fb = spatial::models::hoap3_floating;
 using namespace spatial::walking;
-#if SPATIAL_TEST_COMPILE_TIME_TREES
-using FM = spatial::FloatingModel<double, fb::Tree>;
-FM make_model() { return fb::floating_model(); }
-#else
-using FM = spatial::FloatingModel<double>;
-FM make_model() { return fb::floating_model().to_runtime(); }
-#endif
-
-WholeBodyFrames hoap3_frames() {
-  return {fb::frame_index("L_SOLE"), fb::frame_index("R_SOLE"), fb::frame_index("base_link")};
-}
+// the compile-time tree, or its run-time twin in the sanitizer build
+using spatial::testing::walking_hoap3::FM;
+using spatial::testing::walking_hoap3::hoap3_frames;
+using spatial::testing::walking_hoap3::make_model;
 
 struct TwoSteps {
   FM model = make_model();

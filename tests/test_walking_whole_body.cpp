@@ -11,7 +11,7 @@
 #include <spatial/models/hoap3_floating.hpp>
 #include <spatial/walking/whole_body.hpp>
 
-#include "support/compile_time_trees.hpp"  // SPATIAL_TEST_COMPILE_TIME_TREES: 0 in the sanitizer build
+#include "support/walking_hoap3.hpp"
 
 #include <gtest/gtest.h>
 
@@ -27,21 +27,12 @@ namespace {
 
 namespace fb = spatial::models::hoap3_floating;
 using namespace spatial::walking;
-// The compile-time tree, except in the sanitizer build (support/compile_time_trees.hpp), which runs the same
-// pipeline on the run-time twin.
-#if SPATIAL_TEST_COMPILE_TIME_TREES
-using FM = spatial::FloatingModel<double, fb::Tree>;
-FM make_model() { return fb::floating_model(); }
-#else
-using FM = spatial::FloatingModel<double>;
-FM make_model() { return fb::floating_model().to_runtime(); }
-#endif
+// the compile-time tree, or its run-time twin in the sanitizer build
+using spatial::testing::walking_hoap3::FM;
+using spatial::testing::walking_hoap3::hoap3_frames;
+using spatial::testing::walking_hoap3::make_model;
 using V2 = Eigen::Vector2d;
 using V3 = Eigen::Vector3d;
-
-WholeBodyFrames hoap3_frames() {
-  return {fb::frame_index("L_SOLE"), fb::frame_index("R_SOLE"), fb::frame_index("base_link")};
-}
 
 GaitParameters<double> short_gait() {
   GaitParameters<double> g;  // the HOAP-3 defaults of docs/walking.md (50 mm, 1.0 s, r = 0.2, 20 mm), one step
