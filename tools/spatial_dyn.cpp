@@ -756,6 +756,13 @@ int run_scenes(int argc, char** argv) {
   return 0;
 }
 
+/// Whether --help or -h is among argv[first …].
+bool asks_help(int argc, char** argv, int first) {
+  for (int i = first; i < argc; ++i)
+    if (std::string(argv[i]) == "--help" || std::string(argv[i]) == "-h") return true;
+  return false;
+}
+
 /// `spatial-dyn walk`: the HOAP-3's closed-loop walk (walk_run.hpp).
 int run_walk(int argc, char** argv) {
   const cli::Options opts(argc, argv, 2,
@@ -809,21 +816,12 @@ int run(int argc, char** argv) {
     std::cout << kUsage;
     return 0;
   }
-  if (sub == "scene") {
-    for (int i = 2; i < argc; ++i)
-      if (std::string(argv[i]) == "--help" || std::string(argv[i]) == "-h") {
-        std::cout << kUsage;
-        return 0;
-      }
-    return run_scenes(argc, argv);
-  }
-  if (sub == "walk") {
-    for (int i = 2; i < argc; ++i)
-      if (std::string(argv[i]) == "--help" || std::string(argv[i]) == "-h") {
-        std::cout << kUsage;
-        return 0;
-      }
-    return run_walk(argc, argv);
+  if (sub == "scene" || sub == "walk") {
+    if (asks_help(argc, argv, 2)) {
+      std::cout << kUsage;
+      return 0;
+    }
+    return sub == "scene" ? run_scenes(argc, argv) : run_walk(argc, argv);
   }
   Command cmd;
   int first_option = 2;
@@ -848,11 +846,10 @@ int run(int argc, char** argv) {
   else
     throw UsageError("unknown subcommand '" + sub +
                      "' (id, fd, crba, jacobian, com, derivatives, zmp, info, scene or walk; try --help)");
-  for (int i = first_option; i < argc; ++i)
-    if (std::string(argv[i]) == "--help" || std::string(argv[i]) == "-h") {
-      std::cout << kUsage;
-      return 0;
-    }
+  if (asks_help(argc, argv, first_option)) {
+    std::cout << kUsage;
+    return 0;
+  }
   std::vector<std::string> with_value = cli::model_option_names();
   std::vector<std::string> flags = cli::model_flag_names();
   if (cmd != Command::Info) {

@@ -165,15 +165,8 @@ ClosedLoopRun<ModelT> run_closed_loop(const ModelT& model, const WholeBodyFrames
   run.kp = w * w * mass;
   run.kd = S(2) * z * w * mass;
 
-  std::vector<RigidContact<S>> candidates;
-  for (int frame : {frames.left_sole, frames.right_sole}) {
-    RigidContact<S> c = contact_6d<S>(frame, ReferenceFrame::Local);
-    c.friction = wb.friction;
-    c.sole_x_min = -wb.sole.back, c.sole_x_max = wb.sole.front;
-    c.sole_y_min = -wb.sole.right, c.sole_y_max = wb.sole.left;
-    candidates.push_back(c);
-  }
-  ContactSimulator<ModelT> sim(model, candidates, options.simulation);
+  ContactSimulator<ModelT> sim(model, {sole_contact(frames.left_sole, wb), sole_contact(frames.right_sole, wb)},
+                               options.simulation);
   const auto mask_at = [&](S t) {
     return (plan.in_contact(Foot::left, t) ? 1u : 0u) | (plan.in_contact(Foot::right, t) ? 2u : 0u);
   };

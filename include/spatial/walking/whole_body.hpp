@@ -168,6 +168,16 @@ WholeBodyOptions<S> hoap3_whole_body_options(const Names& joint_names, S arm_swi
   return o;
 }
 
+/// A sole as a 6D contact (Local axes) with the options' friction coefficient and sole rectangle.
+template <class S>
+RigidContact<S> sole_contact(int frame, const WholeBodyOptions<S>& o) {
+  RigidContact<S> c = contact_6d<S>(frame);
+  c.friction = o.friction;
+  c.sole_x_min = -o.sole.back, c.sole_x_max = o.sole.front;
+  c.sole_y_min = -o.sole.right, c.sole_y_max = o.sole.left;
+  return c;
+}
+
 /// Everything one tick produces (world coordinates unless said otherwise).
 template <class ModelT>
 struct WholeBodyState {
@@ -317,14 +327,6 @@ class WholeBodyGenerator {
     io.max_iterations = o.ik_max_iterations;
     io.active = active_coordinates(model, f);
     return io;
-  }
-
-  static RigidContact<S> sole_contact(int frame, const WholeBodyOptions<S>& o) {
-    RigidContact<S> c = contact_6d<S>(frame);
-    c.friction = o.friction;
-    c.sole_x_min = -o.sole.back, c.sole_x_max = o.sole.front;
-    c.sole_y_min = -o.sole.right, c.sole_y_max = o.sole.left;
-    return c;
   }
 
   static Matrix3<S> rot_z(S yaw) {
