@@ -75,7 +75,9 @@ TEST(CliWalk, OneStepMatchesTheLibrary) {
     for (const char* c : {"qx", "qy", "qz", "qw"}) n2 += std::pow(csv.number(k, std::string("q:floating_base:") + c), 2);
     EXPECT_NEAR(n2, 1.0, 1e-12);
     for (const char* f : {"left", "right"}) {
-      if (csv.number(k, std::string("contact:") + f) == 0.0) EXPECT_EQ(csv.number(k, std::string("F:") + f + ":z"), 0.0);
+      if (csv.number(k, std::string("contact:") + f) == 0.0) {
+        EXPECT_EQ(csv.number(k, std::string("F:") + f + ":z"), 0.0);
+      }
     }
   }
   const std::size_t last = csv.rows.size() - 1;
