@@ -2,9 +2,8 @@
 # The main job: the benchmark report, from a fresh clone on a fresh Debian bookworm machine.
 #   1. Debian packages (scripts/deps.sh), then the optional peers and tools in build/venv (scripts/peers.sh:
 #      Pinocchio from PyPI's `pin`, matplotlib; the run goes on without them if pip fails).
-#   2. Release builds of every benchmark binary and the error study, with g++ (preset "release", build/) and with
-#      clang++ (preset "clang-release", build-clang/), both at once. Tests are not built here (scripts/test.sh does
-#      that).
+#   2. Release builds of every benchmark binary and the error study, with g++ (preset "release", build/) and then
+#      with clang++ (preset "clang-release", build-clang/). Tests are not built here (scripts/test.sh does that).
 #   3. Runs every benchmark binary of each build (Google Benchmark, repetitions with medians) and the error study,
 #      writing JSON to build/report/raw/<compiler>/.
 #   4. The reference study's scenes: `spatial-dyn scene all` (first compiler's build) into build/report/scenes/,
@@ -42,13 +41,13 @@ fi
 rm -rf "$raw_dir"
 mkdir -p "$raw_dir"
 
-# Both compilers' builds run at the same time: each build ends on a few long translation units (bench_pinocchio
-# alone takes ~3 CPU minutes) during which one of its jobs idles, and the other build fills that core (on an idle
-# 2-core machine, 640 s one after the other against ~500 s together). The first compiler's build also makes
-# spatial-dyn, which the scenes and the walks need (a minute of one core when it was built at the end). Logs:
-# build/report/raw/build-<compiler>.log.
+# One compiler's build after the other, each with $jobs jobs. Run together (four compilers on two cores, each
+# instantiating unrolled trees in several GB), they slowed each other down by more than the share of a core:
+# tools/spatial_dyn.cpp took 323 s there against 100 s in a build of its own with two jobs. Each build
+# starts with the longest sources (bench_pinocchio's three parts; bench/CMakeLists.txt orders the targets so), so that
+# no long one ends a build alone on one core. The first compiler's build also makes spatial-dyn and spatial-ilqr,
+# which the scenes, the iLQR example and the walks need. Logs: build/report/raw/build-<compiler>.log.
 first_compiler=${compilers%% *}
-build_pids=()
 for compiler in $compilers; do
   case "$compiler" in
     gcc) preset=release; build_dir=build ;;
@@ -60,20 +59,13 @@ for compiler in $compilers; do
   grep -E "spatial:" "$raw_dir/configure-$compiler.log" || true
   targets=(spatial_benchmarks)
   [[ "$compiler" == "$first_compiler" ]] && targets+=(spatial-dyn spatial-ilqr)
-  cmake --build --preset "$preset" --target "${targets[@]}" --parallel "$jobs" >"$raw_dir/build-$compiler.log" 2>&1 &
-  build_pids+=("$!:$compiler")
-done
-stage "building ($compilers at once; logs in $raw_dir/build-<compiler>.log)"
-build_failed=0
-for entry in "${build_pids[@]}"; do
-  if ! wait "${entry%%:*}"; then
-    compiler=${entry#*:}
+  stage "$compiler: build (log in $raw_dir/build-$compiler.log)"
+  if ! cmake --build --preset "$preset" --target "${targets[@]}" --parallel "$jobs" >"$raw_dir/build-$compiler.log" 2>&1; then
     tail -n 60 "$raw_dir/build-$compiler.log"
     echo "main.sh: the $compiler build failed (whole log: $raw_dir/build-$compiler.log)" >&2
-    build_failed=1
+    exit 1
   fi
 done
-[[ $build_failed -eq 0 ]] || exit 1
 
 for compiler in $compilers; do
   case "$compiler" in

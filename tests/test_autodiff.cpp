@@ -1,12 +1,10 @@
 // The library on a forward-mode AD scalar (tests/support/autodiff.hpp), and the analytical derivatives of RNEA and
 // forward dynamics (derivatives.hpp) against it: to 1e-12 relative to the largest entry, on random fixed and
-// floating trees of every joint type with and without external forces in both frames, and on the HOAP-3
-// compile-time models (through their run-time twins). Also: the dual number's own derivatives against known
+// floating trees of every joint type with and without external forces in both frames (the HOAP-3 compile-time
+// models: tests/test_derivatives.cpp). Also: the dual number's own derivatives against known
 // formulas, the AD values against the double results, the AD oracle against central differences (so that a wrong
 // oracle cannot pass), and integrate/difference differentiated at zero rotation.
 #include <spatial/spatial.hpp>
-#include <spatial/models/hoap3_floating.hpp>
-#include <spatial/models/hoap3_stance_right.hpp>
 
 #include "support/autodiff.hpp"
 #include "support/random_model.hpp"
@@ -21,12 +19,11 @@
 #include <string>
 #include <vector>
 
-#include "support/compile_time_trees.hpp"  // SPATIAL_TEST_COMPILE_TIME_TREES: 0 in the sanitizer build
-
 namespace {
 
 using namespace spatial;
 using spatial::testing::ad_aba_derivatives;
+using spatial::testing::ad_rel_err;
 using spatial::testing::ad_rnea_derivatives;
 using spatial::testing::Dual;
 using spatial::testing::random_floating;
@@ -37,17 +34,7 @@ using Vec = Eigen::VectorXd;
 using Mat = Eigen::MatrixXd;
 using Forces = std::vector<Force<double>>;
 
-// AD derivatives are exact up to rounding: the analytical and AD matrices differ by the rounding of two different
-// orders of operations, ~1e-15 relative; 1e-12 is the bound, and three orders of magnitude below it a wrong
-// term (≳ 1e-3 relative, typically O(1)) would still stand out.
-constexpr double kTol = 1e-12;
-
-/// max |a − b| / max |b| (b: the AD matrix), the denominator at least 1: a matrix that vanishes identically (∂τ/∂v
-/// of a single prismatic joint) is compared absolutely, where the analytical one may hold rounding of order 1e-17.
-double rel_err(const Mat& a, const Mat& b) {
-  const double scale = std::max(b.cwiseAbs().maxCoeff(), 1.0);
-  return (a - b).cwiseAbs().maxCoeff() / scale;
-}
+constexpr double kTol = spatial::testing::kAdTolerance;
 
 /// The largest relative difference seen per quantity, printed at the end of each test (for the report).
 struct Worst {
@@ -160,7 +147,7 @@ TEST(Autodiff, DualValuesEqualTheDoubleResults) {
     Mat dq(12, 12);
     for (int i = 0; i < 12; ++i)
       for (int j = 0; j < 12; ++j) dq(i, j) = ddd.dtau_dq(i, j).val;
-    EXPECT_LT(rel_err(dq, ddv.dtau_dq), 1e-14);
+    EXPECT_LT(ad_rel_err(dq, ddv.dtau_dq), 1e-14);
     // The AD oracle's value outputs.
     const auto r = ad_rnea_derivatives(model, q, v, a, f, ForceFrame::Base);
     EXPECT_LT(close(r.tau, rnea(model, d, q, v, a, f, ForceFrame::Base)), 1e-14);
@@ -249,12 +236,12 @@ TEST(Autodiff, OracleAgreesWithCentralDifferences) {
     dq.col(k) = (tau(integrate(model, q, Vec(h * e)), v) - tau(integrate(model, q, Vec(-h * e)), v)) / (2 * h);
     dv.col(k) = (tau(q, v + h * e) - tau(q, v - h * e)) / (2 * h);
   }
-  EXPECT_LT(rel_err(dq, r.dtau_dq), 1e-7);
-  EXPECT_LT(rel_err(dv, r.dtau_dv), 1e-7);
+  EXPECT_LT(ad_rel_err(dq, r.dtau_dq), 1e-7);
+  EXPECT_LT(ad_rel_err(dv, r.dtau_dv), 1e-7);
   // A wrong matrix is caught at the tolerance used below: one entry off by 1e-9 relative.
   Mat wrong = r.dtau_dq;
   wrong(nv - 1, 2) += 1e-9 * r.dtau_dq.cwiseAbs().maxCoeff();
-  EXPECT_GT(rel_err(wrong, r.dtau_dq), kTol);
+  EXPECT_GT(ad_rel_err(wrong, r.dtau_dq), kTol);
 }
 
 // ---- analytical derivatives against AD ---------------------------------------------------------------------------
@@ -268,7 +255,7 @@ void check_fixed(const Model<double, T>& model, const Vec& q, const Vec& v, cons
   DerivativeData<double, T> dd(model);
   rnea_derivatives(model, data, dd, q, v, a, fext, frame);
   const auto r = ad_rnea_derivatives(model, q, v, a, fext, frame);
-  const double eq = rel_err(dd.dtau_dq, r.dtau_dq), ev = rel_err(dd.dtau_dv, r.dtau_dv);
+  const double eq = ad_rel_err(dd.dtau_dq, r.dtau_dq), ev = ad_rel_err(dd.dtau_dv, r.dtau_dv);
   EXPECT_LT(eq, kTol) << "analytic\n" << dd.dtau_dq << "\nAD\n" << r.dtau_dq;
   EXPECT_LT(ev, kTol) << "analytic\n" << dd.dtau_dv << "\nAD\n" << r.dtau_dv;
 
@@ -276,8 +263,8 @@ void check_fixed(const Model<double, T>& model, const Vec& q, const Vec& v, cons
   const Vec tau = random_vector(n, rng, 2.0);
   aba_derivatives(model, data, dd, q, v, tau, fext, frame);
   const auto b = ad_aba_derivatives(model, q, v, tau, fext, frame);
-  const double fq = rel_err(dd.dqdd_dq, b.dqdd_dq), fv = rel_err(dd.dqdd_dv, b.dqdd_dv);
-  const double ft = rel_err(dd.dqdd_dtau, b.dqdd_dtau);
+  const double fq = ad_rel_err(dd.dqdd_dq, b.dqdd_dq), fv = ad_rel_err(dd.dqdd_dv, b.dqdd_dv);
+  const double ft = ad_rel_err(dd.dqdd_dtau, b.dqdd_dtau);
   EXPECT_LT(fq, kTol);
   EXPECT_LT(fv, kTol);
   EXPECT_LT(ft, kTol);
@@ -297,7 +284,7 @@ void check_floating(const FloatingModel<double, T>& model, const Vec& q, const V
   FloatingDerivativeData<double, T> dd(model);
   rnea_derivatives(model, data, dd, q, v, a, fext, frame);
   const auto r = ad_rnea_derivatives(model, q, v, a, fext, frame);
-  const double eq = rel_err(dd.dtau_dq, r.dtau_dq), ev = rel_err(dd.dtau_dv, r.dtau_dv);
+  const double eq = ad_rel_err(dd.dtau_dq, r.dtau_dq), ev = ad_rel_err(dd.dtau_dv, r.dtau_dv);
   EXPECT_LT(eq, kTol) << "analytic\n" << dd.dtau_dq << "\nAD\n" << r.dtau_dq;
   EXPECT_LT(ev, kTol) << "analytic\n" << dd.dtau_dv << "\nAD\n" << r.dtau_dv;
 
@@ -305,8 +292,8 @@ void check_floating(const FloatingModel<double, T>& model, const Vec& q, const V
   const Vec tau = random_vector(nv, rng, 2.0);
   aba_derivatives(model, data, dd, q, v, tau, fext, frame);
   const auto b = ad_aba_derivatives(model, q, v, tau, fext, frame);
-  const double fq = rel_err(dd.dqdd_dq, b.dqdd_dq), fv = rel_err(dd.dqdd_dv, b.dqdd_dv);
-  const double ft = rel_err(dd.dqdd_dtau, b.dqdd_dtau);
+  const double fq = ad_rel_err(dd.dqdd_dq, b.dqdd_dq), fv = ad_rel_err(dd.dqdd_dv, b.dqdd_dv);
+  const double ft = ad_rel_err(dd.dqdd_dtau, b.dqdd_dtau);
   EXPECT_LT(fq, kTol);
   EXPECT_LT(fv, kTol);
   EXPECT_LT(ft, kTol);
@@ -366,49 +353,7 @@ TEST(Autodiff, RandomFloatingTreesEveryJointTypeAnalyticalMatchesAD) {
   worst.print("random floating trees");
 }
 
-#if SPATIAL_TEST_COMPILE_TIME_TREES
-TEST(Autodiff, Hoap3StanceCompileTimeTreeAnalyticalMatchesAD) {
-  const auto model = models::hoap3_stance_right::model();
-  const int n = model.size();
-  std::mt19937 rng(41);
-  const Vec q = random_vector(n, rng, 1.0), v = random_vector(n, rng, 2.0), a = random_vector(n, rng, 2.0);
-  const Forces f = random_forces(n, rng);
-  Worst worst;
-  check_fixed(model, q, v, a, NoExternalForces{}, ForceFrame::Body, "no external forces", worst);
-  check_fixed(model, q, v, a, f, ForceFrame::Body, "body-frame forces", worst);
-  check_fixed(model, q, v, a, f, ForceFrame::Base, "base-frame forces", worst);
-  worst.print("hoap3_stance_right");
-}
-
-TEST(Autodiff, Hoap3FloatingCompileTimeTreeAnalyticalMatchesAD) {
-  const auto model = models::hoap3_floating::floating_model();
-  std::mt19937 rng(42);
-  const Vec lo = Vec::Constant(model.njoints(), -1.0), hi = Vec::Constant(model.njoints(), 1.0);
-  const Vec q = random_configuration(model, lo, hi, rng);
-  const Vec v = random_vector(model.nv(), rng, 2.0), a = random_vector(model.nv(), rng, 2.0);
-  const Forces f = random_forces(model.njoints() + 1, rng);
-  Worst worst;
-  check_floating(model, q, v, a, NoExternalForces{}, ForceFrame::Body, "no external forces", worst);
-  check_floating(model, q, v, a, f, ForceFrame::Body, "body-frame forces", worst);
-  check_floating(model, q, v, a, f, ForceFrame::Base, "world-frame forces", worst);
-  worst.print("hoap3_floating");
-}
-
-TEST(Autodiff, RuntimeTwinOfACompileTimeModelGivesTheSameDynamics) {
-  // The oracle differentiates a compile-time model's run-time twin: both give the same τ and q̈.
-  const auto model = models::hoap3_floating::floating_model();
-  const FloatingModel<double> twin = model.to_runtime();
-  std::mt19937 rng(43);
-  const Vec lo = Vec::Constant(model.njoints(), -1.0), hi = Vec::Constant(model.njoints(), 1.0);
-  const Vec q = random_configuration(model, lo, hi, rng);
-  const Vec v = random_vector(model.nv(), rng, 2.0), a = random_vector(model.nv(), rng, 2.0);
-  FloatingData<double, models::hoap3_floating::Tree> d(model);
-  FloatingData<double> dt(twin);
-  const Vec tau = rnea(model, d, q, v, a);
-  EXPECT_LT((Vec(rnea(twin, dt, q, v, a)) - tau).cwiseAbs().maxCoeff(), 1e-13 * (1 + tau.cwiseAbs().maxCoeff()));
-  const Vec qdd = aba(model, d, q, v, a);
-  EXPECT_LT((Vec(aba(twin, dt, q, v, a)) - qdd).cwiseAbs().maxCoeff(), 1e-12 * (1 + qdd.cwiseAbs().maxCoeff()));
-}
-#endif
+// The HOAP-3 compile-time models against this oracle: tests/test_derivatives.cpp (Hoap3*AgainstFiniteDifferencesAndAD,
+// RuntimeTwinOfACompileTimeModelGivesTheSameDynamics), where their derivatives are instantiated anyway.
 
 }  // namespace

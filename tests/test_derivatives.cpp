@@ -1,10 +1,13 @@
 // Analytical derivatives of RNEA and forward dynamics (derivatives.hpp) against central finite differences (on the
 // configuration manifold for floating bases), with and without external forces in both frames, on random trees of
-// every joint type and on the HOAP-3 models; identities (∂q̈/∂τ H = I); repeated calls.
+// every joint type and on the HOAP-3 models; identities (∂q̈/∂τ H = I); repeated calls. The HOAP-3 compile-time
+// models are also checked against the forward-mode AD oracle here (test_autodiff.cpp checks the oracle itself and
+// the random trees against it): one translation unit instantiates their derivatives, which is most of its compile.
 #include <spatial/spatial.hpp>
 #include <spatial/models/hoap3_floating.hpp>
 #include <spatial/models/hoap3_stance_right.hpp>
 
+#include "support/autodiff.hpp"
 #include "support/random_model.hpp"
 
 #include <gtest/gtest.h>
@@ -33,6 +36,27 @@ constexpr double kTol = 1e-6;
 
 double rel_err(const Mat& a, const Mat& b) { return (a - b).cwiseAbs().maxCoeff() / (1.0 + b.cwiseAbs().maxCoeff()); }
 
+// Against the AD oracle: its bound and error measure (support/autodiff.hpp).
+using spatial::testing::ad_rel_err;
+using spatial::testing::kAdTolerance;
+/// Compares the RNEA derivatives in dd with the AD oracle's; M is a Model or a FloatingModel.
+template <class M, class DD, class Ext>
+void expect_ad_rnea(const M& model, const DD& dd, const Vec& q, const Vec& v, const Vec& a, const Ext& fext,
+                    ForceFrame frame) {
+  const auto r = spatial::testing::ad_rnea_derivatives(model, q, v, a, fext, frame);
+  EXPECT_LT(ad_rel_err(dd.dtau_dq, r.dtau_dq), kAdTolerance) << "analytic\n" << dd.dtau_dq << "\nAD\n" << r.dtau_dq;
+  EXPECT_LT(ad_rel_err(dd.dtau_dv, r.dtau_dv), kAdTolerance) << "analytic\n" << dd.dtau_dv << "\nAD\n" << r.dtau_dv;
+}
+/// Compares the forward dynamics derivatives in dd (at τ = tau) with the AD oracle's.
+template <class M, class DD, class Ext>
+void expect_ad_aba(const M& model, const DD& dd, const Vec& q, const Vec& v, const Vec& tau, const Ext& fext,
+                   ForceFrame frame) {
+  const auto b = spatial::testing::ad_aba_derivatives(model, q, v, tau, fext, frame);
+  EXPECT_LT(ad_rel_err(dd.dqdd_dq, b.dqdd_dq), kAdTolerance);
+  EXPECT_LT(ad_rel_err(dd.dqdd_dv, b.dqdd_dv), kAdTolerance);
+  EXPECT_LT(ad_rel_err(dd.dqdd_dtau, b.dqdd_dtau), kAdTolerance);
+}
+
 Forces random_forces(int n, std::mt19937& rng) {
   Forces f;
   for (int i = 0; i < n; ++i) f.emplace_back(Vector6<double>(random_vector(6, rng, 3.0)));
@@ -55,7 +79,8 @@ Vec plus(const Vec& x, int k, double h) {
 
 // ---- fixed base --------------------------------------------------------------------------------------------------
 
-template <class T, class Ext>
+/// Against central differences, and with AD also against the AD oracle.
+template <bool AD = false, class T, class Ext>
 void check_fixed(const Model<double, T>& model, const Vec& q, const Vec& v, const Vec& a, const Ext& fext,
                  ForceFrame frame, const char* what) {
   SCOPED_TRACE(what);
@@ -69,6 +94,7 @@ void check_fixed(const Model<double, T>& model, const Vec& q, const Vec& v, cons
   const Mat dv = central(v, n, [&](const Vec& x) { return Vec(rnea(model, ref, q, x, a, fext, frame)); }, plus);
   EXPECT_LT(rel_err(dd.dtau_dq, dq), kTol) << "analytic\n" << dd.dtau_dq << "\nfinite differences\n" << dq;
   EXPECT_LT(rel_err(dd.dtau_dv, dv), kTol) << "analytic\n" << dd.dtau_dv << "\nfinite differences\n" << dv;
+  if constexpr (AD) expect_ad_rnea(model, dd, q, v, a, fext, frame);
 
   // Forward dynamics: against central differences of ABA, and ∂q̈/∂τ = H⁻¹.
   std::mt19937 rng(static_cast<unsigned>(n));
@@ -83,6 +109,7 @@ void check_fixed(const Model<double, T>& model, const Vec& q, const Vec& v, cons
   EXPECT_LT(rel_err(dd.dqdd_dq, aq), kTol);
   EXPECT_LT(rel_err(dd.dqdd_dv, av), kTol);
   EXPECT_LT(rel_err(dd.dqdd_dtau, at), kTol);
+  if constexpr (AD) expect_ad_aba(model, dd, q, v, tau_in, fext, frame);
   const Mat H = crba(model, ref, q);
   EXPECT_TRUE(Mat(dd.dqdd_dtau) == Mat(dd.minv.Minv));  // H⁻¹ by inverse_inertia, kept in dd.minv
   EXPECT_LT((Mat(dd.dqdd_dtau) * H - Mat::Identity(n, n)).cwiseAbs().maxCoeff(), 1e-10);
@@ -107,13 +134,15 @@ TEST(RneaDerivatives, RandomFixedTreesEveryJointTypeAgainstFiniteDifferences) {
 }
 
 #if SPATIAL_TEST_COMPILE_TIME_TREES
-TEST(RneaDerivatives, Hoap3StanceCompileTimeTreeAgainstFiniteDifferences) {
+TEST(RneaDerivatives, Hoap3StanceCompileTimeTreeAgainstFiniteDifferencesAndAD) {
   const auto model = models::hoap3_stance_right::model();
   const int n = model.size();
   std::mt19937 rng(11);
   const Vec q = random_vector(n, rng, 1.0), v = random_vector(n, rng, 2.0), a = random_vector(n, rng, 2.0);
-  check_fixed(model, q, v, a, NoExternalForces{}, ForceFrame::Body, "no external forces");
-  check_fixed(model, q, v, a, random_forces(n, rng), ForceFrame::Base, "base-frame forces");
+  const Forces f = random_forces(n, rng);
+  check_fixed<true>(model, q, v, a, NoExternalForces{}, ForceFrame::Body, "no external forces");
+  check_fixed<true>(model, q, v, a, f, ForceFrame::Body, "body-frame forces");
+  check_fixed<true>(model, q, v, a, f, ForceFrame::Base, "base-frame forces");
 }
 #endif
 
@@ -172,7 +201,8 @@ TEST(RneaDerivatives, FloatMatchesDouble) {
 
 // ---- floating base -----------------------------------------------------------------------------------------------
 
-template <class T, class Ext>
+/// Against central differences on the manifold, and with AD also against the AD oracle.
+template <bool AD = false, class T, class Ext>
 void check_floating(const FloatingModel<double, T>& model, const Vec& q, const Vec& v, const Vec& a,
                     const Ext& fext, ForceFrame frame, const char* what) {
   SCOPED_TRACE(what);
@@ -191,6 +221,7 @@ void check_floating(const FloatingModel<double, T>& model, const Vec& q, const V
   const Mat dv = central(v, nv, [&](const Vec& x) { return Vec(rnea(model, ref, q, x, a, fext, frame)); }, plus);
   EXPECT_LT(rel_err(dd.dtau_dq, dq), kTol) << "analytic\n" << dd.dtau_dq << "\nfinite differences\n" << dq;
   EXPECT_LT(rel_err(dd.dtau_dv, dv), kTol) << "analytic\n" << dd.dtau_dv << "\nfinite differences\n" << dv;
+  if constexpr (AD) expect_ad_rnea(model, dd, q, v, a, fext, frame);
 
   std::mt19937 rng(nv);
   const Vec tau_in = random_vector(nv, rng, 2.0);
@@ -201,6 +232,7 @@ void check_floating(const FloatingModel<double, T>& model, const Vec& q, const V
   EXPECT_LT(rel_err(dd.dqdd_dq, central(q, nv, [&](const Vec& x) { return fd(x, v, tau_in); }, step)), kTol);
   EXPECT_LT(rel_err(dd.dqdd_dv, central(v, nv, [&](const Vec& x) { return fd(q, x, tau_in); }, plus)), kTol);
   EXPECT_LT(rel_err(dd.dqdd_dtau, central(tau_in, nv, [&](const Vec& x) { return fd(q, v, x); }, plus)), kTol);
+  if constexpr (AD) expect_ad_aba(model, dd, q, v, tau_in, fext, frame);
   const Mat H = crba(model, ref, q);
   EXPECT_TRUE(Mat(dd.dqdd_dtau) == Mat(dd.minv.Minv));  // H⁻¹ by inverse_inertia, kept in dd.minv
   EXPECT_LT((Mat(dd.dqdd_dtau) * H - Mat::Identity(nv, nv)).cwiseAbs().maxCoeff(), 1e-10);
@@ -226,14 +258,32 @@ TEST(RneaDerivatives, RandomFloatingTreesOnTheManifoldAgainstFiniteDifferences) 
 }
 
 #if SPATIAL_TEST_COMPILE_TIME_TREES
-TEST(RneaDerivatives, Hoap3FloatingCompileTimeTreeAgainstFiniteDifferences) {
+TEST(RneaDerivatives, Hoap3FloatingCompileTimeTreeAgainstFiniteDifferencesAndAD) {
   const auto model = models::hoap3_floating::floating_model();
   std::mt19937 rng(14);
   const Vec lo = Vec::Constant(model.njoints(), -1.0), hi = Vec::Constant(model.njoints(), 1.0);
   const Vec q = random_configuration(model, lo, hi, rng);
   const Vec v = random_vector(model.nv(), rng, 2.0), a = random_vector(model.nv(), rng, 2.0);
-  check_floating(model, q, v, a, NoExternalForces{}, ForceFrame::Body, "no external forces");
-  check_floating(model, q, v, a, random_forces(model.njoints() + 1, rng), ForceFrame::Base, "world-frame forces");
+  const Forces f = random_forces(model.njoints() + 1, rng);
+  check_floating<true>(model, q, v, a, NoExternalForces{}, ForceFrame::Body, "no external forces");
+  check_floating<true>(model, q, v, a, f, ForceFrame::Body, "body-frame forces");
+  check_floating<true>(model, q, v, a, f, ForceFrame::Base, "world-frame forces");
+}
+
+// The AD oracle differentiates a compile-time model's run-time twin: both give the same τ and q̈.
+TEST(RneaDerivatives, RuntimeTwinOfACompileTimeModelGivesTheSameDynamics) {
+  const auto model = models::hoap3_floating::floating_model();
+  const FloatingModel<double> twin = model.to_runtime();
+  std::mt19937 rng(43);
+  const Vec lo = Vec::Constant(model.njoints(), -1.0), hi = Vec::Constant(model.njoints(), 1.0);
+  const Vec q = random_configuration(model, lo, hi, rng);
+  const Vec v = random_vector(model.nv(), rng, 2.0), a = random_vector(model.nv(), rng, 2.0);
+  FloatingData<double, models::hoap3_floating::Tree> d(model);
+  FloatingData<double> dt(twin);
+  const Vec tau = rnea(model, d, q, v, a);
+  EXPECT_LT((Vec(rnea(twin, dt, q, v, a)) - tau).cwiseAbs().maxCoeff(), 1e-13 * (1 + tau.cwiseAbs().maxCoeff()));
+  const Vec qdd = aba(model, d, q, v, a);
+  EXPECT_LT((Vec(aba(twin, dt, q, v, a)) - qdd).cwiseAbs().maxCoeff(), 1e-12 * (1 + qdd.cwiseAbs().maxCoeff()));
 }
 #endif
 

@@ -26,6 +26,7 @@
 
 #include <Eigen/Core>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <ostream>
@@ -237,6 +238,19 @@ struct AdAbaDerivatives {
   Eigen::MatrixXd dqdd_dq, dqdd_dv, dqdd_dtau;
   Eigen::VectorXd qdd;  ///< the values of q̈
 };
+
+/// The bound of analytical derivatives against this oracle. AD derivatives are exact up to rounding: the analytical
+/// and AD matrices differ by the rounding of two different orders of operations, ~1e-15 relative; 1e-12 is issue
+/// 13's bound, and three orders of magnitude below it a wrong term (≳ 1e-3 relative, typically O(1)) would still
+/// stand out.
+inline constexpr double kAdTolerance = 1e-12;
+
+/// max |a − b| / max |b| (b: the AD matrix), the denominator at least 1: a matrix that vanishes identically (∂τ/∂v
+/// of a single prismatic joint) is compared absolutely, where the analytical one may hold rounding of order 1e-17.
+inline double ad_rel_err(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+  const double scale = std::max(b.cwiseAbs().maxCoeff(), 1.0);
+  return (a - b).cwiseAbs().maxCoeff() / scale;
+}
 
 /// ∂τ/∂q and ∂τ/∂v of RNEA on a fixed base by forward-mode AD (one pass per column).
 template <class T, class Ext = NoExternalForces>

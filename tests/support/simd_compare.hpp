@@ -7,6 +7,7 @@
 #include <spatial/models/hoap3_torso.hpp>
 #include <spatial/spatial.hpp>
 
+#include "support/compile_time_trees.hpp"
 #include "support/random_model.hpp"
 #include "support/reference.hpp"
 #include "support/static_trees.hpp"
@@ -17,6 +18,17 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <type_traits>
+
+// SPATIAL_SIMD_TEST_ALL_TREES (= SPATIAL_TEST_COMPILE_TIME_TREES): 1 in the release build, where the kernels run on
+// every HOAP-3 model and both random shapes; 0 in the sanitizer build, where each kernel is one large unrolled
+// instantiation per tree and per term combination compiled unoptimised and instrumented (the three heaviest files
+// took ~9 CPU minutes there): the fixed-base kernels run on hoap3_stance_right, Rev9 (two roots, branches, every
+// axis) and RevChain24 (deeper than any HOAP-3 branch), the floating-base ones on hoap3_floating and Rev9, and every
+// combination of RNEA's terms (gravity, velocity, acceleration) only on Rev9 (kEveryTermCombination): the terms
+// change the arithmetic, not which memory the kernels touch. The other HOAP-3 models run the same kernels on smaller
+// and shallower trees.
+#define SPATIAL_SIMD_TEST_ALL_TREES SPATIAL_TEST_COMPILE_TIME_TREES
 
 #if !SPATIAL_SIMD_AVX2
 #error "the simd_*.cpp tests must be compiled with AVX2 and FMA (tests/CMakeLists.txt adds -mavx2 -mfma)"
@@ -37,6 +49,11 @@ template <std::size_t... I>
 auto make_chain(std::index_sequence<I...>) -> Tree<Parents<(static_cast<int>(I) - 1)...>, Joints<kAxes[I % 3]...>>;
 // A chain deeper than any branch of the reference models (every H entry of it is an ancestor pair).
 using RevChain24 = decltype(make_chain(std::make_index_sequence<24>{}));
+
+/// Whether the kernel tests run every combination of RNEA's terms on TreeT, or only all of them at once (see
+/// SPATIAL_SIMD_TEST_ALL_TREES).
+template <class TreeT>
+inline constexpr bool kEveryTermCombination = SPATIAL_SIMD_TEST_ALL_TREES || std::is_same_v<TreeT, Rev9>;
 
 static_assert(detail::simd_enabled<double, Rev9>());
 static_assert(detail::simd_enabled<double, models::hoap3_stance_right::Tree>());
