@@ -1,16 +1,16 @@
 // Cost growth: RNEA, CRBA, ABA and the tree factorisation (LTDL: `ltdl` + `ltdl_solve`) on chains and balanced
 // binary trees of 2, 4, …, 256 bodies (revolute joints cycling about x, y, z; random geometry and inertias), in
-// double. Every size runs as a run-time tree; sizes up to SPATIAL_GROWTH_MAX_STATIC (CMake option, default 32)
+// double. Every size runs as a run-time tree; sizes up to SPATIAL_GROWTH_MAX_STATIC (CMake option, default 16)
 // also as compile-time trees generated from index sequences. Fully unrolled trees cost a lot to compile: with
-// GCC 12 at -O3, the compile-time trees of 2…16 bodies take ~30 s of CPU, adding the 32-body ones ~45 s more, and
-// 64 bodies several minutes and 4 GB, too much for the report's time budget. tools/report.py fits time ∝ n^k on a
+// GCC 12 at -O3, this file takes ~32 s of CPU with the compile-time trees of 2…16 bodies, ~137 s with the 32-body
+// ones too (measured 2026-12-02), and 64 bodies several minutes and 4 GB, too much for the report's time budget. tools/report.py fits time ∝ n^k on a
 // log–log scale for each algorithm, shape and tree kind.
 //
 // Names: "spatial/<algorithm>/<chain|binary><n>/double/<static|runtime>".
 #include "bench_common.hpp"
 
 #ifndef SPATIAL_GROWTH_MAX_STATIC
-#define SPATIAL_GROWTH_MAX_STATIC 32
+#define SPATIAL_GROWTH_MAX_STATIC 16
 #endif
 
 namespace {

@@ -31,7 +31,7 @@ template <class S>
 const typename PinFixture<S>::Vector& pinocchio_fd_crba(PinFixture<S>& f, std::size_t k) {
   const auto& m = f.peer.model;
   pinocchio::crba(m, f.data, f.q[k]);
-  pinocchio::nonLinearEffects(m, f.data, f.q[k], f.qd[k]);
+  pinocchio::nonLinearEffects(m, f.data, f.q[k], f.v[k]);
   pinocchio::cholesky::decompose(m, f.data);
   f.x = f.u[k] - f.data.nle;
   pinocchio::cholesky::solve(m, f.data, f.x);
@@ -40,8 +40,8 @@ const typename PinFixture<S>::Vector& pinocchio_fd_crba(PinFixture<S>& f, std::s
 
 template <class S, class TreeT>
 void check(const BenchModel<TreeT>& entry, PinFixture<S>& f, const InputPool<double>& pool) {
-  const Model<double, TreeT>& model = entry.model;
-  Data<double, TreeT> data(model);
+  const Model<double> model = entry.model.to_runtime();  // ours on the run-time twin: see pinocchio_bench.hpp
+  Data<double> data(model);
   const bool is_double = std::is_same_v<S, double>;
   const double tight = is_double ? 1e-12 : 1e-3, loose = is_double ? 1e-10 : 1e-3;
   const std::string on = std::string(" (") + scalar_name<S>() + ") on " + entry.name;
@@ -52,16 +52,16 @@ void check(const BenchModel<TreeT>& entry, PinFixture<S>& f, const InputPool<dou
   const auto& pm = f.peer.model;
   for (int k = 0; k < 32 && k < pool.size(); ++k) {
     const auto s = static_cast<std::size_t>(k);
-    tau.compare(f.peer.from_pinocchio(pinocchio::rnea(pm, f.data, f.q[s], f.qd[s], f.u[s])),
+    tau.compare(f.peer.from_pinocchio(pinocchio::rnea(pm, f.data, f.q[s], f.v[s], f.u[s])),
                 rnea(model, data, pool.q[s], pool.qd[s], pool.u[s]));
     grav.compare(f.peer.from_pinocchio(pinocchio::computeGeneralizedGravity(pm, f.data, f.q[s])),
                  gravity_torques(model, data, pool.q[s]));
-    nle.compare(f.peer.from_pinocchio(pinocchio::nonLinearEffects(pm, f.data, f.q[s], f.qd[s])),
+    nle.compare(f.peer.from_pinocchio(pinocchio::nonLinearEffects(pm, f.data, f.q[s], f.v[s])),
                 bias_forces(model, data, pool.q[s], pool.qd[s]));
     Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic> M = pinocchio::crba(pm, f.data, f.q[s]);
     M.template triangularView<Eigen::StrictlyLower>() = M.transpose().template triangularView<Eigen::StrictlyLower>();
     mass.compare(f.peer.from_pinocchio_matrix(M), crba(model, data, pool.q[s]));
-    fd_aba.compare(f.peer.from_pinocchio(pinocchio::aba(pm, f.data, f.q[s], f.qd[s], f.u[s])),
+    fd_aba.compare(f.peer.from_pinocchio(pinocchio::aba(pm, f.data, f.q[s], f.v[s], f.u[s])),
                    aba(model, data, pool.q[s], pool.qd[s], pool.u[s]));
     fd_crba.compare(f.peer.from_pinocchio(pinocchio_fd_crba(f, s)),
                     forward_dynamics_crba(model, data, pool.q[s], pool.qd[s], pool.u[s]));
@@ -90,20 +90,20 @@ void register_pinocchio(const BenchModel<TreeT>& entry) {
     register_pinocchio_call(fx, entry.name, scalar_name<S>(), algorithm, body);
   };
   reg("RNEA", [](Fx& f, std::size_t k) {
-    benchmark::DoNotOptimize(pinocchio::rnea(f.peer.model, f.data, f.q[k], f.qd[k], f.u[k]).data());
+    benchmark::DoNotOptimize(pinocchio::rnea(f.peer.model, f.data, f.q[k], f.v[k], f.u[k]).data());
   });
   reg("GravityTorques", [](Fx& f, std::size_t k) {
     benchmark::DoNotOptimize(pinocchio::computeGeneralizedGravity(f.peer.model, f.data, f.q[k]).data());
   });
   reg("BiasForces", [](Fx& f, std::size_t k) {
-    benchmark::DoNotOptimize(pinocchio::nonLinearEffects(f.peer.model, f.data, f.q[k], f.qd[k]).data());
+    benchmark::DoNotOptimize(pinocchio::nonLinearEffects(f.peer.model, f.data, f.q[k], f.v[k]).data());
   });
   reg("CRBA", [](Fx& f, std::size_t k) {
     benchmark::DoNotOptimize(pinocchio::crba(f.peer.model, f.data, f.q[k]).data());
   });
   reg("FD_CRBA_LTDL", [](Fx& f, std::size_t k) { benchmark::DoNotOptimize(pinocchio_fd_crba(f, k).data()); });
   reg("ABA", [](Fx& f, std::size_t k) {
-    benchmark::DoNotOptimize(pinocchio::aba(f.peer.model, f.data, f.q[k], f.qd[k], f.u[k]).data());
+    benchmark::DoNotOptimize(pinocchio::aba(f.peer.model, f.data, f.q[k], f.v[k], f.u[k]).data());
   });
   reg("FK", [](Fx& f, std::size_t k) {
     pinocchio::forwardKinematics(f.peer.model, f.data, f.q[k]);

@@ -23,13 +23,14 @@ using namespace spatial::peers;
 
 /// Pinocchio's computeRNEADerivatives and computeABADerivatives against ours on the first 32 states (double):
 /// ∂τ/∂q, ∂τ/∂v ≤ 1e-12 and ∂q̈/∂q, ∂q̈/∂v, ∂q̈/∂τ = M⁻¹ (Pinocchio fills its upper triangle) ≤ 1e-10, relative.
-template <class Peer, class PQ, class ModelT, class OQ, class OV>
-void check_derivatives(const Peer& peer, pinocchio::Data& pd, const PQ& q, const PQ& v, const PQ& u,
-                       const ModelT& model, const OQ& oq, const OV& ov, const OV& ou, const std::string& name) {
-  const auto& pm = [&]() -> const pinocchio::Model& {
-    if constexpr (std::is_same_v<Peer, PinocchioPeer<double>>) return peer.model;
-    else return peer.tree.model;
-  }();
+/// Ours on the run-time twin of the model (pinocchio_bench.hpp says why).
+template <class Fx, class ModelT, class OQ, class OV>
+void check_derivatives(Fx& f, const ModelT& model, const OQ& oq, const OV& ov, const OV& ou, const std::string& name) {
+  using Peer = decltype(f.peer);
+  const Peer& peer = f.peer;
+  const pinocchio::Model& pm = f.model();
+  pinocchio::Data& pd = f.data;
+  const auto &q = f.q, &v = f.v, &u = f.u;
   using Deriv = std::conditional_t<std::is_same_v<Peer, PinocchioPeer<double>>,
                                    DerivativeData<double, typename ModelT::tree_type>,
                                    FloatingDerivativeData<double, typename ModelT::tree_type>>;
@@ -66,22 +67,22 @@ void check_derivatives(const Peer& peer, pinocchio::Data& pd, const PQ& q, const
   for (const PeerCheck* c : {&rq, &rv, &aq, &av, &mi, &cm}) c->report();
 }
 
-
-/// The three timed calls, on a fixture with `peer`, `data` and the states `q`, a velocity and `u`.
-template <class Fx, class Model, class QV>
-void register_derivatives(const std::shared_ptr<Fx>& fx, const std::string& name, Model model, QV qd) {
-  register_pinocchio_call(fx, name, "double", "RNEA_derivatives", [model, qd](Fx& f, std::size_t k) {
-    pinocchio::computeRNEADerivatives(model(f), f.data, f.q[k], (f.*qd)[k], f.u[k]);
+/// The three timed calls, on a fixture with `model()`, `data` and the states `q`, `v` and `u` (PinFixture or
+/// FloatingPinStates).
+template <class Fx>
+void register_derivatives(const std::shared_ptr<Fx>& fx, const std::string& name) {
+  register_pinocchio_call(fx, name, "double", "RNEA_derivatives", [](Fx& f, std::size_t k) {
+    pinocchio::computeRNEADerivatives(f.model(), f.data, f.q[k], f.v[k], f.u[k]);
     benchmark::DoNotOptimize(f.data.dtau_dq.data());
     benchmark::ClobberMemory();
   });
-  register_pinocchio_call(fx, name, "double", "ABA_derivatives", [model, qd](Fx& f, std::size_t k) {
-    pinocchio::computeABADerivatives(model(f), f.data, f.q[k], (f.*qd)[k], f.u[k]);
+  register_pinocchio_call(fx, name, "double", "ABA_derivatives", [](Fx& f, std::size_t k) {
+    pinocchio::computeABADerivatives(f.model(), f.data, f.q[k], f.v[k], f.u[k]);
     benchmark::DoNotOptimize(f.data.ddq_dq.data());
     benchmark::ClobberMemory();
   });
-  register_pinocchio_call(fx, name, "double", "Minv", [model](Fx& f, std::size_t k) {
-    benchmark::DoNotOptimize(pinocchio::computeMinverse(model(f), f.data, f.q[k]).data());
+  register_pinocchio_call(fx, name, "double", "Minv", [](Fx& f, std::size_t k) {
+    benchmark::DoNotOptimize(pinocchio::computeMinverse(f.model(), f.data, f.q[k]).data());
     benchmark::ClobberMemory();
   });
 }
@@ -90,17 +91,13 @@ const bool registered = [] {
   for_each_bench_model([](const auto& entry) {
     const InputPool<double> pool(entry.range);
     auto fx = make_pin_fixture<double>(entry, pool);
-    check_derivatives(fx->peer, fx->data, fx->q, fx->qd, fx->u, entry.model, pool.q, pool.qd, pool.u, entry.name);
-    using Fx = PinFixture<double>;
-    register_derivatives(fx, entry.name, [](const Fx& f) -> const pinocchio::Model& { return f.peer.model; },
-                         &Fx::qd);
+    check_derivatives(*fx, entry.model.to_runtime(), pool.q, pool.qd, pool.u, entry.name);
+    register_derivatives(fx, entry.name);
   });
   auto fl = std::make_shared<FloatingPinStates>(make_pinocchio_floating_peer(floating27()));
   const auto& pool = floating_pool();
-  check_derivatives(fl->peer, fl->data, fl->q, fl->v, fl->u, floating27(), pool.q, pool.v, pool.u, "floating27");
-  register_derivatives(fl, "floating27",
-                       [](const FloatingPinStates& f) -> const pinocchio::Model& { return f.peer.tree.model; },
-                       &FloatingPinStates::v);
+  check_derivatives(*fl, floating27().to_runtime(), pool.q, pool.v, pool.u, "floating27");
+  register_derivatives(fl, "floating27");
   return true;
 }();
 

@@ -8,6 +8,15 @@
 /// In one file they took ~10 CPU minutes with GCC 12 at -O3 (most of it instantiating templates, ours and
 /// Pinocchio's) and ended every build alone on one core; in three, they build side by side. Each part checks its
 /// results against spatial's before any timing and aborts on a mismatch (peers/peer_check.hpp).
+/// In bench_pinocchio.cpp and bench_pinocchio_derivatives.cpp, spatial's side of those checks runs on the run-time
+/// twin of each model (`to_runtime()`: the same joints, transforms, inertias and states over a run-time tree), not on
+/// the compile-time trees that bench_algorithms times: their unrolled instantiation of every checked algorithm for
+/// three models cost 13 % and a third of those parts' compile time (GCC 12, 2026-12-02: 144 → 125 and 252 → 166
+/// CPU-s), and
+/// the tests hold the two trees to the same results (test_static_trees; test_floating's
+/// CompileTimeTreeMatchesRunTimeTree; test_derivatives' RuntimeTwin…; test_contact's …CompileTimeAndRunTimeTrees;
+/// simd_kinematics). bench_pinocchio_floating.cpp checks the compile-time floating27 it times: there the twin saved
+/// nothing measurable (248 → 245 CPU-s; Pinocchio's contact and frame-derivative code dominates).
 ///
 /// Pinocchio is used header-only (PINOCCHIO_ENABLE_TEMPLATE_INSTANTIATION is not defined, nothing is linked from
 /// libpinocchio), compiled with the same compiler and flags as spatial's benchmarks, and against the Eigen that
@@ -33,10 +42,11 @@ struct PinFixture {
   using Vector = Eigen::Matrix<S, Eigen::Dynamic, 1>;
   peers::PinocchioPeer<S> peer;
   pinocchio::DataTpl<S> data;
-  std::vector<Vector> q, qd, u;  // in Pinocchio's joint order
+  std::vector<Vector> q, v, u;  // in Pinocchio's joint order
   Vector x;
   int next = 0;
   explicit PinFixture(peers::PinocchioPeer<S> p) : peer(std::move(p)), data(peer.model) {}
+  const pinocchio::ModelTpl<S>& model() const { return peer.model; }
   int take() {
     next = next + 1 == static_cast<int>(q.size()) ? 0 : next + 1;
     return next;
@@ -49,7 +59,7 @@ std::shared_ptr<PinFixture<S>> make_pin_fixture(const BenchModel<TreeT>& entry, 
   for (int k = 0; k < pool.size(); ++k) {
     const auto s = static_cast<std::size_t>(k);
     fx->q.push_back(fx->peer.to_pinocchio(pool.q[s]));
-    fx->qd.push_back(fx->peer.to_pinocchio(pool.qd[s]));
+    fx->v.push_back(fx->peer.to_pinocchio(pool.qd[s]));
     fx->u.push_back(fx->peer.to_pinocchio(pool.u[s]));
   }
   fx->x = PinFixture<S>::Vector::Zero(entry.model.size());
@@ -62,6 +72,7 @@ struct FloatingPinStates {
   pinocchio::DataTpl<double> data;
   std::vector<Eigen::VectorXd> q, v, u;  // in Pinocchio's order
   int next = 0;
+  const pinocchio::Model& model() const { return peer.tree.model; }
   explicit FloatingPinStates(peers::FloatingPinocchioPeer<double> p) : peer(std::move(p)), data(peer.tree.model) {
     const auto& pool = floating_pool();
     for (int k = 0; k < pool.size(); ++k) {

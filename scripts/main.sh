@@ -2,9 +2,13 @@
 # The main job: the benchmark report, from a fresh clone on a fresh Debian bookworm machine.
 #   1. Debian packages (scripts/deps.sh), then the optional peers and tools in build/venv (scripts/peers.sh:
 #      Pinocchio from PyPI's `pin`, matplotlib; the run goes on without them if pip fails).
-#   2. Release builds of every benchmark binary and the error study, with g++ (preset "release", build/) and then
-#      with clang++ (preset "clang-release", build-clang/). Tests are not built here (scripts/test.sh does that).
-#   3. Runs every benchmark binary of each build (Google Benchmark, repetitions with medians) and the error study,
+#   2. Release builds with g++ (preset "release", build/) and then with clang++ (preset "clang-release",
+#      build-clang/): the first compiler builds every benchmark binary and the error study; the others only the
+#      binaries of the cross-compiler comparisons ($COMPARED_BENCHES: every algorithm against Pinocchio and KDL,
+#      the floating base, the error study), not the cost-growth, scene-option and walking benchmarks, whose
+#      unrolled trees cost ~3 CPU minutes per compiler and which no target asks of a second compiler. Tests are
+#      not built here (scripts/test.sh does that).
+#   3. Runs the benchmark binaries of each build (Google Benchmark, repetitions with medians) and the error study,
 #      writing JSON to build/report/raw/<compiler>/.
 #   4. The reference study's scenes: `spatial-dyn scene all` (first compiler's build) into build/report/scenes/,
 #      plotted by tools/plot_scenes.py (skipped without matplotlib).
@@ -18,7 +22,9 @@
 #
 # Extra arguments are passed to every benchmark binary, e.g.  scripts/main.sh --benchmark_filter=stance21
 # Environment: JOBS (build parallelism, default 2), REPETITIONS (default 5), MIN_TIME (seconds per repetition,
-# default 0.05), COMPILERS (default "gcc clang"), SKIP_PEERS=1 (no venv, no Pinocchio, no charts).
+# default 0.05), COMPILERS (default "gcc clang"), COMPARED_BENCHES (what the compilers after the first build and
+# run; default "bench_algorithms bench_floating bench_kdl bench_pinocchio error_study"; "all": every binary),
+# SKIP_PEERS=1 (no venv, no Pinocchio, no charts).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
@@ -27,6 +33,7 @@ jobs=${JOBS:-2}
 repetitions=${REPETITIONS:-5}
 min_time=${MIN_TIME:-0.05}
 compilers=${COMPILERS:-gcc clang}
+compared_benches=${COMPARED_BENCHES:-bench_algorithms bench_floating bench_kdl bench_pinocchio error_study}
 report_dir=build/report
 raw_dir=$report_dir/raw
 
@@ -57,7 +64,16 @@ for compiler in $compilers; do
   stage "$compiler: configure ($preset, $build_dir)"
   cmake --preset "$preset" >"$raw_dir/configure-$compiler.log" 2>&1 || { cat "$raw_dir/configure-$compiler.log"; exit 1; }
   grep -E "spatial:" "$raw_dir/configure-$compiler.log" || true
-  targets=(spatial_benchmarks)
+  if [[ "$compiler" == "$first_compiler" || "$compared_benches" == all ]]; then
+    targets=(spatial_benchmarks)
+  else
+    # bench_pinocchio is a target only when Pinocchio was found
+    targets=()
+    for b in $compared_benches; do
+      [[ $b == bench_pinocchio ]] && ! grep -q "bench_pinocchio enabled" "$raw_dir/configure-$compiler.log" && continue
+      targets+=("$b")
+    done
+  fi
   [[ "$compiler" == "$first_compiler" ]] && targets+=(spatial-dyn spatial-ilqr)
   stage "$compiler: build (log in $raw_dir/build-$compiler.log)"
   if ! cmake --build --preset "$preset" --target "${targets[@]}" --parallel "$jobs" >"$raw_dir/build-$compiler.log" 2>&1; then
@@ -77,6 +93,14 @@ for compiler in $compilers; do
   shopt -s nullglob
   benches=("$build_dir"/bin/bench_*)
   shopt -u nullglob
+  if [[ "$compiler" != "$first_compiler" && "$compared_benches" != all ]]; then
+    # only what this run built (an earlier run may have left other binaries in $build_dir/bin)
+    kept=()
+    for bench in "${benches[@]}"; do
+      [[ " $compared_benches " == *" $(basename "$bench") "* ]] && kept+=("$bench")
+    done
+    benches=("${kept[@]}")
+  fi
   if [[ ${#benches[@]} -eq 0 ]]; then
     echo "main.sh: no benchmark executables in $build_dir/bin" >&2
     exit 1
@@ -92,8 +116,11 @@ for compiler in $compilers; do
     grep -E "peer check" "$out/$name.txt" | sed 's/^/  /' || true
     echo "  $(grep -c '_median' "$out/$name.txt" || true) benchmarks -> $out/$name.json"
   done
-  stage "$compiler: error study"
-  "$build_dir/bin/error_study" "$out/error_study.json"
+  if [[ "$compiler" == "$first_compiler" || "$compared_benches" == all || " $compared_benches " == *" error_study "* ]]
+  then
+    stage "$compiler: error study"
+    "$build_dir/bin/error_study" "$out/error_study.json"
+  fi
 done
 
 python=python3

@@ -559,9 +559,10 @@ def write_charts(out_dir, records, compilers, notes):
 
     # 3. cost growth, log-log
     growth = [r for r in records if r["kind"] == "growth"]
-    if growth:
-        fig, axes = plt.subplots(1, max(1, len(compilers)), figsize=(7 * max(1, len(compilers)), 5.5), squeeze=False)
-        for col, c in enumerate(compilers):
+    growth_compilers = [c for c in compilers if growth_series(growth, c)]  # main.sh: the first compiler only
+    if growth_compilers:
+        fig, axes = plt.subplots(1, len(growth_compilers), figsize=(7 * len(growth_compilers), 5.5), squeeze=False)
+        for col, c in enumerate(growth_compilers):
             ax = axes[0][col]
             for key, pts in growth_series(growth, c).items():
                 algorithm, shape, tree = key
