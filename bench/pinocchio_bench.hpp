@@ -12,8 +12,7 @@
 /// twin of each model (`to_runtime()`: the same joints, transforms, inertias and states over a run-time tree), not on
 /// the compile-time trees that bench_algorithms times: their unrolled instantiation of every checked algorithm for
 /// three models cost 13 % and a third of those parts' compile time (GCC 12, 2026-12-02: 144 → 125 and 252 → 166
-/// CPU-s), and
-/// the tests hold the two trees to the same results (test_static_trees; test_floating's
+/// CPU-s), and the tests hold the two trees to the same results (test_static_trees; test_floating's
 /// CompileTimeTreeMatchesRunTimeTree; test_derivatives' RuntimeTwin…; test_contact's …CompileTimeAndRunTimeTrees;
 /// simd_kinematics). bench_pinocchio_floating.cpp checks the compile-time floating27 it times: there the twin saved
 /// nothing measurable (248 → 245 CPU-s; Pinocchio's contact and frame-derivative code dominates).
