@@ -38,6 +38,10 @@ report_dir=build/report
 raw_dir=$report_dir/raw
 
 stage() { echo; echo "==== [$(( $(date +%s) - start )) s] $* ===="; }
+# Whether $compiler builds and runs every benchmark binary (the first compiler does), or the binary $1: the
+# compilers after the first, those of $compared_benches.
+compares_all() { [[ "$compiler" == "$first_compiler" || "$compared_benches" == all ]]; }
+compares() { compares_all || [[ " $compared_benches " == *" $1 "* ]]; }
 
 stage "dependencies"
 bash scripts/deps.sh
@@ -64,7 +68,7 @@ for compiler in $compilers; do
   stage "$compiler: configure ($preset, $build_dir)"
   cmake --preset "$preset" >"$raw_dir/configure-$compiler.log" 2>&1 || { cat "$raw_dir/configure-$compiler.log"; exit 1; }
   grep -E "spatial:" "$raw_dir/configure-$compiler.log" || true
-  if [[ "$compiler" == "$first_compiler" || "$compared_benches" == all ]]; then
+  if compares_all; then
     targets=(spatial_benchmarks)
   else
     # bench_pinocchio is a target only when Pinocchio was found
@@ -93,14 +97,12 @@ for compiler in $compilers; do
   shopt -s nullglob
   benches=("$build_dir"/bin/bench_*)
   shopt -u nullglob
-  if [[ "$compiler" != "$first_compiler" && "$compared_benches" != all ]]; then
-    # only what this run built (an earlier run may have left other binaries in $build_dir/bin)
-    kept=()
-    for bench in "${benches[@]}"; do
-      [[ " $compared_benches " == *" $(basename "$bench") "* ]] && kept+=("$bench")
-    done
-    benches=("${kept[@]}")
-  fi
+  # only what this run built (an earlier run may have left other binaries in $build_dir/bin)
+  kept=()
+  for bench in "${benches[@]}"; do
+    compares "$(basename "$bench")" && kept+=("$bench")
+  done
+  benches=("${kept[@]}")
   if [[ ${#benches[@]} -eq 0 ]]; then
     echo "main.sh: no benchmark executables in $build_dir/bin" >&2
     exit 1
@@ -116,8 +118,7 @@ for compiler in $compilers; do
     grep -E "peer check" "$out/$name.txt" | sed 's/^/  /' || true
     echo "  $(grep -c '_median' "$out/$name.txt" || true) benchmarks -> $out/$name.json"
   done
-  if [[ "$compiler" == "$first_compiler" || "$compared_benches" == all || " $compared_benches " == *" error_study "* ]]
-  then
+  if compares error_study; then
     stage "$compiler: error study"
     "$build_dir/bin/error_study" "$out/error_study.json"
   fi
