@@ -1,7 +1,7 @@
 // The library on a forward-mode AD scalar (tests/support/autodiff.hpp), and the analytical derivatives of RNEA and
 // forward dynamics (derivatives.hpp) against it: to 1e-12 relative to the largest entry, on random fixed and
 // floating trees of every joint type with and without external forces in both frames (the HOAP-3 compile-time
-// models: tests/test_derivatives.cpp). Also: the dual number's own derivatives against known
+// models: tests/test_derivatives_hoap3*.cpp). Also: the dual number's own derivatives against known
 // formulas, the AD values against the double results, the AD oracle against central differences (so that a wrong
 // oracle cannot pass), and integrate/difference differentiated at zero rotation.
 #include <spatial/spatial.hpp>
@@ -353,7 +353,8 @@ TEST(Autodiff, RandomFloatingTreesEveryJointTypeAnalyticalMatchesAD) {
   worst.print("random floating trees");
 }
 
-// The HOAP-3 compile-time models against this oracle: tests/test_derivatives.cpp (Hoap3*AgainstFiniteDifferencesAndAD,
+// The HOAP-3 compile-time models against this oracle: tests/test_derivatives_hoap3.cpp and
+// tests/test_derivatives_hoap3_floating.cpp (Hoap3*AgainstFiniteDifferencesAndAD,
 // RuntimeTwinOfACompileTimeModelGivesTheSameDynamics), where their derivatives are instantiated anyway.
 
 }  // namespace
