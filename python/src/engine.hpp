@@ -1,0 +1,110 @@
+#pragma once
+/// \file engine.hpp
+/// The C++ side of the Python module, apart from the bindings themselves: one `Engine` per model kind (run-time
+/// fixed or floating base, and each generated compile-time HOAP-3 model), behind one abstract interface so that
+/// Python sees a single `Model` class. A Python call is one virtual call into `Engine<M>::run`, which loops over the
+/// states of a batch (and splits it over threads) inside the templated code: the library's algorithms themselves
+/// are called directly, specialised for the model, as from C++.
+///
+/// Arrays cross the interface as raw pointers with a per-state stride (0: the same input for every state); inputs
+/// are C-contiguous float64 (the bindings convert anything else once), outputs are the fresh NumPy arrays the
+/// bindings allocate, written row-major.
+
+#include <spatial/spatial.hpp>
+#include <spatial/urdf.hpp>
+
+#include <Eigen/Dense>
+
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+namespace spatial::python {
+
+enum class Op : int {
+  Rnea,
+  Gravity,
+  Bias,
+  Crba,
+  Aba,
+  ForwardDynamics,
+  KineticEnergy,
+  PotentialEnergy,
+  FramePlacement,
+  FrameJacobian,
+  FrameVelocity,
+  CenterOfMass,
+  ComJacobian,
+  CentroidalMatrix,
+  CentroidalMomentum,
+  Integrate,
+  Difference,
+  Normalize,
+  RneaDerivatives,
+  AbaDerivatives,
+  InverseInertia,
+};
+
+struct In {
+  const double* p = nullptr;
+  std::ptrdiff_t stride = 0;  ///< doubles from one state to the next (0: shared by all states)
+  const double* at(std::ptrdiff_t b) const { return p ? p + b * stride : nullptr; }
+};
+struct Out {
+  double* p = nullptr;
+  std::ptrdiff_t stride = 0;
+  double* at(std::ptrdiff_t b) const { return p + b * stride; }
+};
+
+/// One call: an operation over `count` states.
+struct Call {
+  Op op = Op::Rnea;
+  std::ptrdiff_t count = 1;
+  In in[4];     ///< the operation's array inputs in its argument order (q, v, a|tau, fext)
+  Out out[3];   ///< its outputs in order
+  int target = -1;       ///< frame or body index (FramePlacement, FrameJacobian, FrameVelocity)
+  bool target_is_body = false;
+  ReferenceFrame reference = ReferenceFrame::LocalWorldAligned;
+  double dt = 1.0;       ///< Integrate
+};
+
+/// Per-thread buffers of one model kind (the library's Data and what the derivatives need).
+struct Workspace {
+  virtual ~Workspace() = default;
+};
+
+/// What Python's `Model` holds: the model's description and its engine.
+class ModelBase {
+ public:
+  virtual ~ModelBase() = default;
+
+  std::string name, root;
+  bool floating = false, compile_time = false;
+  int nq = 0, nv = 0, njoints = 0;
+  std::vector<std::string> joint_names, body_names, frame_names, warnings;
+  std::vector<double> lower, upper, effort, velocity;
+  Eigen::Vector3d gravity = Eigen::Vector3d::Zero();
+  double total_mass = 0;
+
+  virtual std::unique_ptr<Workspace> workspace() const = 0;
+  /// Runs `call` with `ws` (the calling thread's workspace) and, when threads > 1, with threads − 1 more threads,
+  /// each with a workspace of its own; every state is computed by the same code whatever the split.
+  virtual void run(const Call& call, Workspace& ws, int threads) const = 0;
+  virtual void neutral(double* q) const = 0;
+
+  /// The model's own workspace, for calls made without `data=` (the lock guards it against two Python threads
+  /// that released the GIL in a batch; a caller that finds it busy gets a fresh one).
+  mutable std::mutex default_lock;
+  std::unique_ptr<Workspace> default_ws;
+};
+
+std::shared_ptr<ModelBase> make_runtime_model(const urdf_io::LoadedModel& loaded, const std::string& name);
+std::shared_ptr<ModelBase> make_hoap3_stance_right();
+std::shared_ptr<ModelBase> make_hoap3_stance_left();
+std::shared_ptr<ModelBase> make_hoap3_torso();
+std::shared_ptr<ModelBase> make_hoap3_double_pendulum();
+std::shared_ptr<ModelBase> make_hoap3_floating();
+
+}  // namespace spatial::python

@@ -1,0 +1,305 @@
+#pragma once
+/// \file engine_impl.hpp
+/// `Engine<M>`: the operations of engine.hpp for one model type M (`Model<double, T>` or `FloatingModel<double, T>`,
+/// T a compile-time tree or `DynamicTree`). Included by one source file per model kind, so that the kinds compile in
+/// parallel.
+
+#include "engine.hpp"
+
+#include <algorithm>
+#include <thread>
+#include <type_traits>
+
+namespace spatial::python {
+
+template <class M>
+struct IsFloating : std::false_type {};
+template <class S, class T>
+struct IsFloating<FloatingModel<S, T>> : std::true_type {};
+
+template <class M>
+struct TreeOf;
+template <class S, class T>
+struct TreeOf<Model<S, T>> {
+  using type = T;
+};
+template <class S, class T>
+struct TreeOf<FloatingModel<S, T>> {
+  using type = T;
+};
+
+template <class M>
+class Engine final : public ModelBase {
+ public:
+  static constexpr bool kFloating = IsFloating<M>::value;
+  using Traits = spatial::detail::ModelTraits<M>;
+  using DataT = typename Traits::DataType;
+  using Tree = typename TreeOf<M>::type;
+  using TreeT = Model<double, Tree>;
+  static constexpr int NV = Traits::NV;
+  static constexpr int NQ = NV == Eigen::Dynamic ? Eigen::Dynamic : NV + (kFloating ? 1 : 0);
+  using DerivT = std::conditional_t<kFloating, FloatingDerivativeData<double, Tree>, DerivativeData<double, Tree>>;
+  using MinvT = std::conditional_t<kFloating, FloatingMinvData<double, Tree>, MinvData<double, Tree>>;
+  using VecQ = Eigen::Matrix<double, NQ, 1>;
+  using VecV = Eigen::Matrix<double, NV, 1>;
+  using MapQ = Eigen::Map<const VecQ>;
+  using MapV = Eigen::Map<const VecV>;
+  using Mat6 = Eigen::Matrix<double, 6, NV>;
+  using Mat3 = Eigen::Matrix<double, 3, NV>;
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+  struct Ws final : Workspace {
+    explicit Ws(const M& m)
+        : data(m), J(Mat6::Zero(6, m.nv())), Jc(Mat3::Zero(3, m.nv())), zero(VecV::Zero(m.nv())),
+          fext(static_cast<std::size_t>(Traits::tree(m).size() + (kFloating ? 1 : 0)), Force<double>::Zero()),
+          qtmp(VecQ::Zero(Traits::nq(m))), vtmp(VecV::Zero(m.nv())) {}
+    DataT data;
+    Mat6 J;
+    Mat3 Jc;
+    VecV zero;
+    std::vector<Force<double>> fext;
+    VecQ qtmp;
+    VecV vtmp;
+    std::unique_ptr<DerivT> deriv;  // built on first use
+    std::unique_ptr<MinvT> minv;
+  };
+
+  explicit Engine(M model) : model_(std::move(model)) {
+    const auto& tree = Traits::tree(model_);
+    floating = kFloating;
+    compile_time = TreeT::is_static;
+    nq = Traits::nq(model_);
+    nv = Traits::nv(model_);
+    njoints = tree.size();
+    for (int i = 0; i < njoints; ++i) {
+      joint_names.push_back(tree.joint_name(i));
+      body_names.push_back(tree.body_name(i));
+    }
+    for (const auto& f : tree.frames()) frame_names.push_back(f.name);
+    gravity = tree.gravity();
+    default_ws = workspace();
+  }
+
+  std::unique_ptr<Workspace> workspace() const override { return std::make_unique<Ws>(model_); }
+
+  void neutral(double* q) const override {
+    Eigen::Map<Eigen::VectorXd> out(q, nq);
+    out.setZero();
+    if constexpr (kFloating) out[6] = 1.0;
+  }
+
+  void run(const Call& c, Workspace& ws, int threads) const override {
+    switch (c.op) {
+#define SPATIAL_PY_OP(name) \
+  case Op::name: return split<Op::name>(c, static_cast<Ws&>(ws), threads);
+      SPATIAL_PY_OP(Rnea)
+      SPATIAL_PY_OP(Gravity)
+      SPATIAL_PY_OP(Bias)
+      SPATIAL_PY_OP(Crba)
+      SPATIAL_PY_OP(Aba)
+      SPATIAL_PY_OP(ForwardDynamics)
+      SPATIAL_PY_OP(KineticEnergy)
+      SPATIAL_PY_OP(PotentialEnergy)
+      SPATIAL_PY_OP(FramePlacement)
+      SPATIAL_PY_OP(FrameJacobian)
+      SPATIAL_PY_OP(FrameVelocity)
+      SPATIAL_PY_OP(CenterOfMass)
+      SPATIAL_PY_OP(ComJacobian)
+      SPATIAL_PY_OP(CentroidalMatrix)
+      SPATIAL_PY_OP(CentroidalMomentum)
+      SPATIAL_PY_OP(Integrate)
+      SPATIAL_PY_OP(Difference)
+      SPATIAL_PY_OP(Normalize)
+      SPATIAL_PY_OP(RneaDerivatives)
+      SPATIAL_PY_OP(AbaDerivatives)
+      SPATIAL_PY_OP(InverseInertia)
+#undef SPATIAL_PY_OP
+    }
+  }
+
+ private:
+  M model_;
+
+  template <Op O>
+  void range(const Call& c, Ws& ws, std::ptrdiff_t begin, std::ptrdiff_t end) const {
+    for (std::ptrdiff_t b = begin; b < end; ++b) one<O>(c, ws, b);
+  }
+
+  /// Contiguous chunks, one per thread; the first on the calling thread with its workspace.
+  template <Op O>
+  void split(const Call& c, Ws& ws, int threads) const {
+    const std::ptrdiff_t n = c.count;
+    const std::ptrdiff_t t = std::max<std::ptrdiff_t>(1, std::min<std::ptrdiff_t>(threads, n));
+    if (t == 1) return range<O>(c, ws, 0, n);
+    std::vector<std::thread> pool;
+    pool.reserve(static_cast<std::size_t>(t - 1));
+    const std::ptrdiff_t chunk = n / t, extra = n % t;
+    std::ptrdiff_t begin = chunk + (extra > 0 ? 1 : 0);  // the calling thread's share: [0, begin)
+    for (std::ptrdiff_t k = 1; k < t; ++k) {
+      const std::ptrdiff_t end = begin + chunk + (k < extra ? 1 : 0);
+      pool.emplace_back([this, &c, begin, end] {
+        Ws own(model_);
+        range<O>(c, own, begin, end);
+      });
+      begin = end;
+    }
+    range<O>(c, ws, 0, chunk + (extra > 0 ? 1 : 0));
+    for (auto& th : pool) th.join();
+  }
+
+  MapQ q_at(const In& in, std::ptrdiff_t b) const { return MapQ(in.at(b), nq); }
+  MapV v_at(const In& in, std::ptrdiff_t b) const { return MapV(in.at(b), nv); }
+  /// An element loop rather than an Eigen assignment: GCC 12 warns (-Warray-bounds, falsely) about the masked
+  /// AVX-512 loads Eigen uses to copy a 3- or 6-vector into a dynamic-size map under -march=native.
+  template <class Vec>
+  static void put_vector(const Out& o, std::ptrdiff_t b, const Vec& x) {
+    double* p = o.at(b);
+    for (Eigen::Index k = 0; k < x.size(); ++k) p[k] = x[k];
+  }
+  template <class Mat>
+  static void put_matrix(const Out& o, std::ptrdiff_t b, const Mat& x) {
+    Eigen::Map<RowMajor>(o.at(b), x.rows(), x.cols()) = x;
+  }
+  /// A Motion as 6 numbers, linear first.
+  static void put_motion(const Out& o, std::ptrdiff_t b, const Motion<double>& m) {
+    double* p = o.at(b);
+    for (int k = 0; k < 3; ++k) p[k] = m.v[k], p[3 + k] = m.w[k];
+  }
+  /// External forces of state b: rows [fx fy fz nx ny nz] (linear first), in body coordinates.
+  void load_fext(const In& in, std::ptrdiff_t b, Ws& ws) const {
+    const double* p = in.at(b);
+    for (std::size_t k = 0; k < ws.fext.size(); ++k, p += 6)
+      ws.fext[k] = Force<double>(Vector3<double>(p[3], p[4], p[5]), Vector3<double>(p[0], p[1], p[2]));
+  }
+  DerivT& deriv(Ws& ws) const {
+    if (!ws.deriv) ws.deriv = std::make_unique<DerivT>(model_);
+    return *ws.deriv;
+  }
+  MinvT& minv(Ws& ws) const {
+    if (!ws.minv) ws.minv = std::make_unique<MinvT>(model_);
+    return *ws.minv;
+  }
+
+  template <Op O>
+  void one(const Call& c, Ws& ws, std::ptrdiff_t b) const {
+    auto& d = ws.data;
+    const M& m = model_;
+    if constexpr (O == Op::Rnea) {
+      if (c.in[3].p) {
+        load_fext(c.in[3], b, ws);
+        put_vector(c.out[0], b, rnea(m, d, q_at(c.in[0], b), v_at(c.in[1], b), v_at(c.in[2], b), ws.fext));
+      } else {
+        put_vector(c.out[0], b, rnea(m, d, q_at(c.in[0], b), v_at(c.in[1], b), v_at(c.in[2], b)));
+      }
+    } else if constexpr (O == Op::Gravity) {
+      put_vector(c.out[0], b, gravity_torques(m, d, q_at(c.in[0], b)));
+    } else if constexpr (O == Op::Bias) {
+      put_vector(c.out[0], b, bias_forces(m, d, q_at(c.in[0], b), v_at(c.in[1], b)));
+    } else if constexpr (O == Op::Crba) {
+      put_matrix(c.out[0], b, crba(m, d, q_at(c.in[0], b)));
+    } else if constexpr (O == Op::Aba) {
+      if (c.in[3].p) {
+        load_fext(c.in[3], b, ws);
+        put_vector(c.out[0], b, aba(m, d, q_at(c.in[0], b), v_at(c.in[1], b), v_at(c.in[2], b), ws.fext));
+      } else {
+        put_vector(c.out[0], b, aba(m, d, q_at(c.in[0], b), v_at(c.in[1], b), v_at(c.in[2], b)));
+      }
+    } else if constexpr (O == Op::ForwardDynamics) {
+      put_vector(c.out[0], b, forward_dynamics_crba(m, d, q_at(c.in[0], b), v_at(c.in[1], b), v_at(c.in[2], b)));
+    } else if constexpr (O == Op::KineticEnergy) {
+      *c.out[0].at(b) = kinetic_energy(m, d, q_at(c.in[0], b), v_at(c.in[1], b));
+    } else if constexpr (O == Op::PotentialEnergy) {
+      *c.out[0].at(b) = potential_energy(m, d, q_at(c.in[0], b));
+    } else if constexpr (O == Op::FramePlacement) {
+      forward_kinematics(m, d, q_at(c.in[0], b));
+      Eigen::Isometry3d pose;
+      if (c.target_is_body) {
+        if constexpr (kFloating) pose = body_pose(m, d, c.target);
+        else pose = body_pose(d, c.target);
+      } else {
+        pose = frame_pose(m, d, c.target);
+      }
+      put_matrix(c.out[0], b, pose.matrix());
+    } else if constexpr (O == Op::FrameJacobian) {
+      if (c.target_is_body) compute_body_jacobian(m, d, q_at(c.in[0], b), c.target, c.reference, ws.J);
+      else compute_frame_jacobian(m, d, q_at(c.in[0], b), c.target, c.reference, ws.J);
+      put_matrix(c.out[0], b, ws.J);
+    } else if constexpr (O == Op::FrameVelocity) {
+      forward_kinematics(m, d, q_at(c.in[0], b), v_at(c.in[1], b), ws.zero);
+      put_motion(c.out[0], b,
+                 c.target_is_body ? body_velocity(m, d, c.target, c.reference)
+                                  : frame_velocity(m, d, c.target, c.reference));
+    } else if constexpr (O == Op::CenterOfMass) {
+      const Eigen::Vector3d x = center_of_mass(m, d, q_at(c.in[0], b));
+      put_vector(c.out[0], b, x);
+    } else if constexpr (O == Op::ComJacobian) {
+      com_jacobian(m, d, q_at(c.in[0], b), ws.Jc);
+      put_matrix(c.out[0], b, ws.Jc);
+    } else if constexpr (O == Op::CentroidalMatrix) {
+      centroidal_momentum_matrix(m, d, q_at(c.in[0], b), ws.J);
+      put_matrix(c.out[0], b, ws.J);
+    } else if constexpr (O == Op::CentroidalMomentum) {
+      const Vector6<double> h = centroidal_momentum(m, d, q_at(c.in[0], b), v_at(c.in[1], b));
+      put_vector(c.out[0], b, h);
+    } else if constexpr (O == Op::Integrate) {
+      Eigen::Map<VecQ> out(c.out[0].at(b), nq);
+      if constexpr (kFloating) {
+        integrate(m, q_at(c.in[0], b), v_at(c.in[1], b), c.dt, ws.qtmp);
+        out = ws.qtmp;
+      } else {
+        out = q_at(c.in[0], b) + c.dt * v_at(c.in[1], b);
+      }
+    } else if constexpr (O == Op::Difference) {
+      Eigen::Map<VecV> out(c.out[0].at(b), nv);
+      if constexpr (kFloating) {
+        difference(m, q_at(c.in[0], b), q_at(c.in[1], b), ws.vtmp);
+        out = ws.vtmp;
+      } else {
+        out = q_at(c.in[1], b) - q_at(c.in[0], b);
+      }
+    } else if constexpr (O == Op::Normalize) {
+      ws.qtmp = q_at(c.in[0], b);
+      if constexpr (kFloating) normalize(m, ws.qtmp);
+      Eigen::Map<VecQ>(c.out[0].at(b), nq) = ws.qtmp;
+    } else if constexpr (O == Op::RneaDerivatives) {
+      auto& dd = deriv(ws);
+      rnea_derivatives(m, d, dd, q_at(c.in[0], b), v_at(c.in[1], b), v_at(c.in[2], b));
+      put_matrix(c.out[0], b, dd.dtau_dq);
+      put_matrix(c.out[1], b, dd.dtau_dv);
+    } else if constexpr (O == Op::AbaDerivatives) {
+      auto& dd = deriv(ws);
+      aba_derivatives(m, d, dd, q_at(c.in[0], b), v_at(c.in[1], b), v_at(c.in[2], b));
+      put_matrix(c.out[0], b, dd.dqdd_dq);
+      put_matrix(c.out[1], b, dd.dqdd_dv);
+      put_matrix(c.out[2], b, dd.dqdd_dtau);
+    } else if constexpr (O == Op::InverseInertia) {
+      put_matrix(c.out[0], b, inverse_inertia(m, d, minv(ws), q_at(c.in[0], b)));
+    }
+  }
+};
+
+/// Fills what a generated model's namespace knows beyond the model itself (limits, masses, name, root).
+template <class E, class NS>
+std::shared_ptr<ModelBase> describe_generated(std::shared_ptr<E> e, const char* name, NS) {
+  e->name = name;
+  e->root = std::string(NS::root_link());
+  e->lower.assign(NS::lower().begin(), NS::lower().end());
+  e->upper.assign(NS::upper().begin(), NS::upper().end());
+  e->effort.assign(NS::effort().begin(), NS::effort().end());
+  e->velocity.assign(NS::velocity().begin(), NS::velocity().end());
+  e->total_mass = NS::whole_body_mass();
+  return e;
+}
+
+/// The generated namespace's constants as static functions (a namespace cannot be a template argument).
+#define SPATIAL_PY_GENERATED(ns)                                             \
+  struct ns##_info {                                                        \
+    static std::string_view root_link() { return models::ns::root_link; }   \
+    static const auto& lower() { return models::ns::lower; }                \
+    static const auto& upper() { return models::ns::upper; }                \
+    static const auto& effort() { return models::ns::effort; }              \
+    static const auto& velocity() { return models::ns::velocity; }          \
+    static double whole_body_mass() { return models::ns::whole_body_mass; } \
+  };
+
+}  // namespace spatial::python

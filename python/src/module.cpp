@@ -1,0 +1,661 @@
+/// \file module.cpp
+/// The extension module `spatial._spatial` (nanobind): models, array conversion and checks, and one function per
+/// algorithm. Every algorithm takes one state ((n,) arrays) or a batch ((B, n) arrays; an unbatched argument is
+/// shared by all states), returns fresh NumPy arrays, and runs batches without the GIL, on `threads` threads.
+
+#include "engine.hpp"
+
+#include <nanobind/nanobind.h>
+#include <nanobind/stl/shared_ptr.h>
+#include <nanobind/stl/string.h>
+#include <nanobind/stl/vector.h>
+#include <nanobind/stl/optional.h>
+#include <nanobind/stl/pair.h>
+#include <nanobind/stl/tuple.h>
+
+#define NPY_NO_DEPRECATED_API NPY_1_7_API_VERSION
+#include <numpy/arrayobject.h>
+
+#include <cmath>
+#include <cstring>
+#include <initializer_list>
+#include <optional>
+#include <sstream>
+#include <thread>
+
+namespace nb = nanobind;
+using namespace nb::literals;
+
+/// Argument and result types that only name themselves in the generated stubs (_spatial.pyi): array arguments are
+/// converted by to_array() below, results are the NumPy arrays made by Output.
+struct ArrayLike {
+  nb::handle h;
+};
+struct NDArray {
+  nb::object o;
+};
+struct FloatOrArray {
+  nb::object o;
+};
+struct FrameArg {
+  nb::handle h;
+};
+namespace nanobind::detail {
+template <>
+struct type_caster<ArrayLike> {
+  NB_TYPE_CASTER(ArrayLike, const_name("numpy.typing.ArrayLike"))
+  bool from_python(handle src, uint8_t, cleanup_list*) noexcept {
+    value.h = src;
+    return true;
+  }
+};
+template <>
+struct type_caster<NDArray> {
+  NB_TYPE_CASTER(NDArray, const_name("numpy.typing.NDArray[numpy.float64]"))
+  static handle from_cpp(const NDArray& v, rv_policy, cleanup_list*) noexcept { return v.o.inc_ref(); }
+};
+template <>
+struct type_caster<FloatOrArray> {
+  NB_TYPE_CASTER(FloatOrArray, const_name("float | numpy.typing.NDArray[numpy.float64]"))
+  static handle from_cpp(const FloatOrArray& v, rv_policy, cleanup_list*) noexcept { return v.o.inc_ref(); }
+};
+template <>
+struct type_caster<FrameArg> {
+  NB_TYPE_CASTER(FrameArg, const_name("str | int"))
+  bool from_python(handle src, uint8_t, cleanup_list*) noexcept {
+    value.h = src;
+    return true;
+  }
+};
+}  // namespace nanobind::detail
+using spatial::python::Call;
+using spatial::python::ModelBase;
+using spatial::python::Op;
+using spatial::python::Workspace;
+
+namespace {
+
+/// A private workspace for one model (Python's `Data`): pass it as `data=` to keep a thread's calls off the model's
+/// own workspace.
+struct PyData {
+  std::shared_ptr<ModelBase> model;
+  std::unique_ptr<Workspace> ws;
+  std::mutex lock;
+};
+
+/// An input array: a C-contiguous, aligned float64 NumPy array (the argument itself when it is one; a converted
+/// copy otherwise), held for the duration of the call.
+struct Array {
+  nb::object obj;
+  PyArrayObject* arr() const { return reinterpret_cast<PyArrayObject*>(obj.ptr()); }
+  int ndim() const { return PyArray_NDIM(arr()); }
+  std::size_t shape(int k) const { return std::size_t(PyArray_DIM(arr(), k)); }
+  std::size_t size() const { return std::size_t(PyArray_SIZE(arr())); }
+  const double* data() const { return static_cast<const double*>(PyArray_DATA(arr())); }
+};
+
+std::string shape_str(const Array& a) {
+  std::ostringstream s;
+  s << '(';
+  for (int k = 0; k < a.ndim(); ++k) s << (k ? ", " : "") << a.shape(k);
+  s << (a.ndim() == 1 ? ",)" : ")");
+  return s.str();
+}
+
+/// Converts an argument to a C-contiguous float64 array: no copy when it already is one; other real arrays and
+/// array-likes (lists, float32, integers, Fortran order, strided views) are converted by NumPy with its "safe"
+/// casting rule, so complex numbers, strings and objects are refused with a TypeError naming the argument.
+Array to_array(nb::handle h, const char* fn, const char* arg) {
+  PyObject* o = h.ptr();
+  if (PyArray_Check(o)) {
+    auto* a = reinterpret_cast<PyArrayObject*>(o);
+    if (PyArray_TYPE(a) == NPY_DOUBLE && PyArray_IS_C_CONTIGUOUS(a) && PyArray_ISALIGNED(a) && PyArray_ISNOTSWAPPED(a))
+      return {nb::borrow(h)};
+  }
+  PyObject* c = PyArray_FromAny(o, PyArray_DescrFromType(NPY_DOUBLE), 0, 0,
+                                NPY_ARRAY_C_CONTIGUOUS | NPY_ARRAY_ALIGNED, nullptr);
+  if (!c) {
+    nb::python_error e;  // takes NumPy's error
+    throw nb::type_error((std::string(fn) + ": argument '" + arg +
+                          "' must be an array of real numbers, convertible to float64 (" + e.what() + ")").c_str());
+  }
+  return {nb::steal(c)};
+}
+
+/// The arguments of one call: their arrays and the batch size they agree on.
+class Args {
+ public:
+  Args(const ModelBase& m, const char* fn) : m_(m), fn_(fn) {}
+
+  /// A per-state vector of `n` entries ((n,) or (B, n)); `what` names the size in errors ("nq", "nv").
+  spatial::python::In vector(nb::handle h, const char* arg, int n, const char* what) {
+    Array a = to_array(h, fn_, arg);
+    const bool ok = (a.ndim() == 1 && a.shape(0) == std::size_t(n)) || (a.ndim() == 2 && a.shape(1) == std::size_t(n));
+    if (!ok) {
+      std::ostringstream s;
+      s << fn_ << ": argument '" << arg << "' has shape " << shape_str(a) << "; the model '" << m_.name
+        << "' has " << what << " = " << n << ", so expected (" << n << ",) or (B, " << n << ")";
+      throw nb::value_error(s.str().c_str());
+    }
+    const bool batch = a.ndim() == 2;
+    return keep(std::move(a), arg, batch, n);
+  }
+  /// Per-body wrenches: (nf, 6) or (B, nf, 6).
+  spatial::python::In forces(nb::handle h, const char* arg, int nf) {
+    Array a = to_array(h, fn_, arg);
+    const bool ok = (a.ndim() == 2 || a.ndim() == 3) && a.shape(a.ndim() - 2) == std::size_t(nf) &&
+                    a.shape(a.ndim() - 1) == 6;
+    if (!ok) {
+      std::ostringstream s;
+      s << fn_ << ": argument '" << arg << "' has shape " << shape_str(a) << "; expected (" << nf << ", 6) or (B, "
+        << nf << ", 6): one wrench [fx fy fz nx ny nz] per " << (m_.floating ? "body, the root first" : "body");
+      throw nb::value_error(s.str().c_str());
+    }
+    const bool batch = a.ndim() == 3;
+    return keep(std::move(a), arg, batch, 6 * nf);
+  }
+
+  bool batched() const { return batch_ >= 0; }
+  const ModelBase& model() const { return m_; }
+  std::ptrdiff_t count() const { return batch_ >= 0 ? batch_ : 1; }
+
+  /// check=True: every entry finite, else ValueError naming the argument, state and entry.
+  void check_finite() const {
+    for (std::size_t j = 0; j < nkept_; ++j) {
+      const Kept& k = kept_[j];
+      const double* p = k.array.data();
+      const std::size_t size = k.array.size();
+      for (std::size_t i = 0; i < size; ++i) {
+        if (std::isfinite(p[i])) continue;
+        std::ostringstream s;
+        s << fn_ << ": argument '" << k.name << "' has a non-finite entry (" << p[i] << ")";
+        if (k.batched) s << " in state " << i / std::size_t(k.width) << ",";
+        s << " at index " << i % std::size_t(k.width);
+        throw nb::value_error(s.str().c_str());
+      }
+    }
+  }
+
+ private:
+  struct Kept {
+    Array array;
+    const char* name = nullptr;
+    bool batched = false;
+    int width = 1;
+  };
+  spatial::python::In keep(Array a, const char* arg, bool batched, int width) {
+    if (batched) {
+      const auto b = static_cast<std::ptrdiff_t>(a.shape(0));
+      if (batch_ >= 0 && b != batch_) {
+        std::ostringstream s;
+        s << fn_ << ": argument '" << arg << "' has " << b << " states, an earlier argument " << batch_;
+        throw nb::value_error(s.str().c_str());
+      }
+      batch_ = b;
+    }
+    spatial::python::In in{a.data(), batched ? std::ptrdiff_t(width) : 0};
+    kept_[nkept_++] = {std::move(a), arg, batched, width};
+    return in;
+  }
+  const ModelBase& m_;
+  const char* fn_;
+  std::ptrdiff_t batch_ = -1;
+  Kept kept_[4];
+  std::size_t nkept_ = 0;
+};
+
+/// A fresh float64 NumPy array of shape (B, dims...) or (dims...).
+struct Output {
+  Output(const Args& args, std::initializer_list<std::size_t> dims) {
+    npy_intp shape[4];
+    int nd = 0;
+    if (args.batched()) shape[nd++] = npy_intp(args.count());
+    per_state = 1;
+    for (std::size_t d : dims) shape[nd++] = npy_intp(d), per_state *= std::ptrdiff_t(d);
+    PyObject* a = PyArray_SimpleNew(nd, shape, NPY_DOUBLE);
+    if (!a) throw nb::python_error();
+    obj = nb::steal(a);
+    data = static_cast<double*>(PyArray_DATA(reinterpret_cast<PyArrayObject*>(a)));
+  }
+  spatial::python::Out out() const { return {data, per_state}; }
+  NDArray array() const { return {obj}; }
+  /// A scalar per state: a Python float for one state.
+  FloatOrArray scalar(const Args& args) const { return {args.batched() ? obj : nb::cast(data[0])}; }
+
+  nb::object obj;
+  double* data = nullptr;
+  std::ptrdiff_t per_state = 1;
+};
+
+int thread_count(int threads) {
+  if (threads < 0) throw nb::value_error("threads must be >= 0 (0: all cores)");
+  if (threads == 0) return std::max(1, int(std::thread::hardware_concurrency()));
+  return threads;
+}
+
+/// Runs a call on the right workspace, without the GIL for batches.
+void execute(const ModelBase& m, Call& call, const Args& args, PyData* data, int threads, bool check) {
+  if (check) args.check_finite();
+  call.count = args.count();
+  const int t = thread_count(threads);
+  auto go = [&](Workspace& ws) {
+    if (args.batched()) {
+      nb::gil_scoped_release release;
+      m.run(call, ws, t);
+    } else {
+      m.run(call, ws, 1);
+    }
+  };
+  if (data) {
+    if (data->model.get() != &m) throw nb::value_error("data: this Data belongs to another model");
+    std::unique_lock<std::mutex> lock(data->lock, std::try_to_lock);
+    if (!lock.owns_lock()) throw nb::value_error("data: this Data is in use by another thread");
+    return go(*data->ws);
+  }
+  std::unique_lock<std::mutex> lock(m.default_lock, std::try_to_lock);
+  if (lock.owns_lock()) return go(*m.default_ws);
+  std::unique_ptr<Workspace> own = m.workspace();  // the model's workspace is busy in another thread
+  go(*own);
+}
+
+std::string name_error(const char* what, const std::string& name, const std::vector<std::string>& names) {
+  return std::string("unknown ") + what + " '" + name + "'" + spatial::detail::did_you_mean(name, names);
+}
+
+int index_of(const std::vector<std::string>& names, const std::string& name) {
+  for (std::size_t k = 0; k < names.size(); ++k)
+    if (names[k] == name) return int(k);
+  return -1;
+}
+
+/// A frame or body given by name (frames first, then bodies) or by frame index.
+void resolve_target(const ModelBase& m, nb::handle frame, const char* fn, Call& c) {
+  if (nb::isinstance<nb::str>(frame)) {
+    const std::string name = nb::cast<std::string>(frame);
+    if (int k = index_of(m.frame_names, name); k >= 0) {
+      c.target = k, c.target_is_body = false;
+      return;
+    }
+    if (int k = index_of(m.body_names, name); k >= 0) {
+      c.target = k, c.target_is_body = true;
+      return;
+    }
+    std::vector<std::string> all = m.frame_names;
+    all.insert(all.end(), m.body_names.begin(), m.body_names.end());
+    throw nb::key_error((std::string(fn) + ": " + name_error("frame or body", name, all)).c_str());
+  }
+  int k = 0;
+  if (!nb::try_cast<int>(frame, k) || k < 0 || k >= int(m.frame_names.size()))
+    throw nb::value_error((std::string(fn) + ": 'frame' must be a frame or body name, or a frame index in [0, " +
+                           std::to_string(m.frame_names.size()) + ")").c_str());
+  c.target = k, c.target_is_body = false;
+}
+
+spatial::ReferenceFrame reference_of(const std::string& r, const char* fn) {
+  if (r == "local") return spatial::ReferenceFrame::Local;
+  if (r == "world") return spatial::ReferenceFrame::World;
+  if (r == "local_world_aligned") return spatial::ReferenceFrame::LocalWorldAligned;
+  throw nb::value_error((std::string(fn) + ": reference '" + r +
+                         "' is not one of 'local', 'world', 'local_world_aligned'").c_str());
+}
+
+NDArray as_numpy(const std::vector<double>& x) {
+  npy_intp n = npy_intp(x.size());
+  PyObject* a = PyArray_SimpleNew(1, &n, NPY_DOUBLE);
+  if (!a) throw nb::python_error();
+  std::copy(x.begin(), x.end(), static_cast<double*>(PyArray_DATA(reinterpret_cast<PyArrayObject*>(a))));
+  return {nb::steal(a)};
+}
+
+spatial::urdf_io::LoadOptions load_options(std::optional<std::string> root, bool floating, nb::handle lock,
+                                           std::optional<std::string> subtree, nb::handle gravity,
+                                           bool strict_inertia, bool axis_aligned) {
+  spatial::urdf_io::LoadOptions opt;
+  if (root) opt.root = *root;
+  if (subtree) opt.subtree = *subtree;
+  opt.floating = floating;
+  opt.strict_inertia = strict_inertia;
+  opt.axis_aligned = axis_aligned;
+  if (!lock.is_none()) {
+    if (!nb::isinstance<nb::dict>(lock)) throw nb::type_error("load_urdf: 'lock' must be a dict {joint name: position}");
+    for (auto [k, v] : nb::borrow<nb::dict>(lock)) opt.locked.emplace_back(nb::cast<std::string>(k), nb::cast<double>(v));
+  }
+  if (!gravity.is_none()) {
+    Array g = to_array(gravity, "load_urdf", "gravity");
+    if (g.ndim() != 1 || g.shape(0) != 3) throw nb::value_error("load_urdf: 'gravity' must have 3 entries");
+    opt.gravity = Eigen::Vector3d(g.data()[0], g.data()[1], g.data()[2]);
+  }
+  return opt;
+}
+
+std::string stem(const std::string& path) {
+  std::string s = path.substr(path.find_last_of("/\\") == std::string::npos ? 0 : path.find_last_of("/\\") + 1);
+  const auto dot = s.rfind('.');
+  return dot == std::string::npos ? s : s.substr(0, dot);
+}
+
+}  // namespace
+
+NB_MODULE(_spatial, m) {
+  if (_import_array() < 0) throw nb::python_error();
+  m.doc() = "spatial: rigid-body dynamics of kinematic trees (Featherstone's spatial algebra), C++ core.";
+  nb::exception<spatial::ModelError>(m, "ModelError", PyExc_ValueError);
+
+  nb::class_<ModelBase>(m, "Model",
+                        "A robot model: a tree of one-DoF joints on a fixed or free-flying base. Build one with "
+                        "load_urdf() or a generated model (hoap3_stance_right(), ...).")
+      .def_ro("name", &ModelBase::name, "The model's name (the URDF file's stem or the generated model's name).")
+      .def_ro("root", &ModelBase::root, "The link the tree is rooted at (the base, or the free-flying root).")
+      .def_ro("floating", &ModelBase::floating,
+              "True for a free-flying base: q = [x y z qx qy qz qw, joints], v = [v_lin, omega (root frame), joint "
+              "rates].")
+      .def_ro("compile_time", &ModelBase::compile_time,
+              "True for a generated model (compile-time tree: the fastest code paths).")
+      .def_ro("nq", &ModelBase::nq, "Size of q (njoints, + 7 for a floating base).")
+      .def_ro("nv", &ModelBase::nv, "Size of v, a and tau (njoints, + 6 for a floating base).")
+      .def_ro("njoints", &ModelBase::njoints, "Number of one-DoF joints (= moving bodies) of the tree.")
+      .def_ro("joint_names", &ModelBase::joint_names, "URDF joint names in model order.")
+      .def_ro("body_names", &ModelBase::body_names, "Body names (the URDF link each joint moves), model order.")
+      .def_ro("frame_names", &ModelBase::frame_names,
+              "Fixed frames: links merged into a body or the base (soles, hands, ...).")
+      .def_ro("warnings", &ModelBase::warnings, "What the URDF loader accepted with a warning (one per link).")
+      .def_prop_ro("lower", [](const ModelBase& b) { return as_numpy(b.lower); }, "Lower position limits (-inf: none).")
+      .def_prop_ro("upper", [](const ModelBase& b) { return as_numpy(b.upper); }, "Upper position limits (inf: none).")
+      .def_prop_ro("effort", [](const ModelBase& b) { return as_numpy(b.effort); }, "Effort limits [N m or N] (0: unknown).")
+      .def_prop_ro("velocity", [](const ModelBase& b) { return as_numpy(b.velocity); }, "Velocity limits (0: unknown).")
+      .def_prop_ro("gravity", [](const ModelBase& b) { return as_numpy({b.gravity[0], b.gravity[1], b.gravity[2]}); },
+                   "Gravity [m/s^2]: base coordinates (fixed base), world coordinates (floating base).")
+      .def_ro("total_mass", &ModelBase::total_mass, "Mass of the whole robot, base included [kg].")
+      .def("joint_index",
+           [](const ModelBase& b, const std::string& n) {
+             const int k = index_of(b.joint_names, n);
+             if (k < 0) throw nb::key_error(name_error("joint", n, b.joint_names).c_str());
+             return k;
+           },
+           "name"_a, "Model order of a joint (its entry in q is nq - njoints + index).")
+      .def("body_index",
+           [](const ModelBase& b, const std::string& n) {
+             const int k = index_of(b.body_names, n);
+             if (k < 0) throw nb::key_error(name_error("body", n, b.body_names).c_str());
+             return k;
+           },
+           "name"_a)
+      .def("frame_index",
+           [](const ModelBase& b, const std::string& n) {
+             const int k = index_of(b.frame_names, n);
+             if (k < 0) throw nb::key_error(name_error("frame", n, b.frame_names).c_str());
+             return k;
+           },
+           "name"_a)
+      .def("data",
+           [](std::shared_ptr<ModelBase> b) {
+             auto d = std::make_unique<PyData>();
+             d->ws = b->workspace();
+             d->model = std::move(b);
+             return d.release();
+           },
+           nb::rv_policy::take_ownership,
+           "A private workspace for this model: pass it as data= to use it instead of the model's own.")
+      .def("__repr__", [](const ModelBase& b) {
+        std::ostringstream s;
+        s << "<spatial.Model '" << b.name << "': " << (b.floating ? "floating" : "fixed") << " base, " << b.njoints
+          << " joints, nq = " << b.nq << ", nv = " << b.nv << (b.compile_time ? ", compile-time tree" : "") << ">";
+        return s.str();
+      });
+
+  nb::class_<PyData>(m, "Data", "A model's private workspace (Model.data()).")
+      .def_prop_ro("model", [](const PyData& d) { return d.model; });
+
+  m.def("_load_urdf",
+        [](const std::string& path, std::optional<std::string> root, bool floating, nb::handle lock,
+           std::optional<std::string> subtree, nb::handle gravity, bool strict_inertia, bool axis_aligned) {
+          auto opt = load_options(root, floating, lock, subtree, gravity, strict_inertia, axis_aligned);
+          spatial::urdf_io::LoadedModel loaded = spatial::urdf_io::load_file(path, opt);
+          return spatial::python::make_runtime_model(loaded, stem(path));
+        },
+        "path"_a, "root"_a.none(), "floating"_a, "lock"_a.none(), "subtree"_a.none(), "gravity"_a.none(),
+        "strict_inertia"_a, "axis_aligned"_a);
+  m.def("_load_urdf_string",
+        [](const std::string& xml, const std::string& name, std::optional<std::string> root, bool floating,
+           nb::handle lock, std::optional<std::string> subtree, nb::handle gravity, bool strict_inertia,
+           bool axis_aligned) {
+          auto opt = load_options(root, floating, lock, subtree, gravity, strict_inertia, axis_aligned);
+          spatial::urdf_io::LoadedModel loaded = spatial::urdf_io::load_string(xml, opt, name);
+          return spatial::python::make_runtime_model(loaded, name);
+        },
+        "xml"_a, "name"_a, "root"_a.none(), "floating"_a, "lock"_a.none(), "subtree"_a.none(), "gravity"_a.none(),
+        "strict_inertia"_a, "axis_aligned"_a);
+
+  m.def("hoap3_stance_right", &spatial::python::make_hoap3_stance_right,
+        "The HOAP-3 standing on its right sole (21 joints; head and wrists locked), compile-time tree.");
+  m.def("hoap3_stance_left", &spatial::python::make_hoap3_stance_left,
+        "The HOAP-3 standing on its left sole (21 joints; head and wrists locked), compile-time tree.");
+  m.def("hoap3_torso", &spatial::python::make_hoap3_torso,
+        "The HOAP-3's torso and arms (8 joints, the chest fixed), compile-time tree.");
+  m.def("hoap3_double_pendulum", &spatial::python::make_hoap3_double_pendulum,
+        "The double inverted pendulum of the reference study (2 joints), compile-time tree.");
+  m.def("hoap3_floating", &spatial::python::make_hoap3_floating,
+        "The HOAP-3 on a free-flyer at the pelvis + the 21 joints of the stance models, compile-time tree.");
+
+  m.def("_neutral", [](const ModelBase& b) -> NDArray {
+    std::vector<double> q(std::size_t(b.nq));
+    b.neutral(q.data());
+    return as_numpy(q);
+  });
+
+  // ---- algorithms ----------------------------------------------------------------------------------------------
+  // Each: (model, arrays..., keywords) → fresh arrays. `fext` rows [fx fy fz nx ny nz] per body, body coordinates.
+#define SPATIAL_PY_KW "data"_a.none() = nb::none(), "threads"_a = 1, "check"_a = false
+  m.def("rnea",
+        [](const ModelBase& b, ArrayLike q, ArrayLike v, ArrayLike a, ArrayLike fext, PyData* data, int threads,
+           bool check) {
+          Args args(b, "rnea");
+          Call c;
+          c.op = Op::Rnea;
+          c.in[0] = args.vector(q.h, "q", b.nq, "nq");
+          c.in[1] = args.vector(v.h, "v", b.nv, "nv");
+          c.in[2] = args.vector(a.h, "a", b.nv, "nv");
+          if (!fext.h.is_none()) c.in[3] = args.forces(fext.h, "fext", b.njoints + (b.floating ? 1 : 0));
+          Output tau(args, {std::size_t(b.nv)});
+          c.out[0] = tau.out();
+          execute(b, c, args, data, threads, check);
+          return tau.array();
+        },
+        "model"_a, "q"_a, "v"_a, "a"_a, "fext"_a.none() = nb::none(), nb::kw_only(), SPATIAL_PY_KW,
+        "Inverse dynamics (RNEA): tau (nv,) or (B, nv) = H(q) a + C(q, v) - sum J^T fext.");
+
+  // Ops whose inputs are vectors only: described by (name, inputs (argument name, nq or nv), output shape).
+  struct VecIn {
+    const char* name;
+    bool config;
+  };
+  const auto bind_vec = [&m](const char* fn, Op op, std::vector<VecIn> ins, int out_kind, const char* doc) {
+    // out_kind: 0 vector nv, 1 matrix nv x nv, 2 scalar, 3 vector nq, 4 vector 3, 5 matrix 3 x nv, 6 matrix 6 x nv,
+    // 7 vector 6
+    auto body = [fn, op, ins, out_kind](const ModelBase& b, const std::vector<ArrayLike>& hs, PyData* data,
+                                        int threads, bool check) -> nb::object {
+      Args args(b, fn);
+      Call c;
+      c.op = op;
+      for (std::size_t k = 0; k < ins.size(); ++k)
+        c.in[k] = args.vector(hs[k].h, ins[k].name, ins[k].config ? b.nq : b.nv, ins[k].config ? "nq" : "nv");
+      const std::size_t nv = std::size_t(b.nv);
+      std::optional<Output> o;
+      switch (out_kind) {
+        case 0: o.emplace(args, std::initializer_list<std::size_t>{nv}); break;
+        case 1: o.emplace(args, std::initializer_list<std::size_t>{nv, nv}); break;
+        case 2: o.emplace(args, std::initializer_list<std::size_t>{}); break;
+        case 3: o.emplace(args, std::initializer_list<std::size_t>{std::size_t(b.nq)}); break;
+        case 4: o.emplace(args, std::initializer_list<std::size_t>{3}); break;
+        case 5: o.emplace(args, std::initializer_list<std::size_t>{3, nv}); break;
+        case 6: o.emplace(args, std::initializer_list<std::size_t>{6, nv}); break;
+        default: o.emplace(args, std::initializer_list<std::size_t>{6}); break;
+      }
+      c.out[0] = o->out();
+      execute(b, c, args, data, threads, check);
+      return out_kind == 2 ? o->scalar(args).o : o->array().o;
+    };
+    // The result's type in the stubs: a float per state for the energies, arrays otherwise.
+    const auto defs = [&](auto tag) {
+      using R = typename decltype(tag)::type;
+      if (ins.size() == 1) {
+        m.def(fn,
+              [body](const ModelBase& b, ArrayLike x, PyData* data, int threads, bool check) {
+                return R{body(b, {x}, data, threads, check)};
+              },
+              "model"_a, nb::arg(ins[0].name), nb::kw_only(), SPATIAL_PY_KW, doc);
+      } else if (ins.size() == 2) {
+        m.def(fn,
+              [body](const ModelBase& b, ArrayLike x, ArrayLike y, PyData* data, int threads, bool check) {
+                return R{body(b, {x, y}, data, threads, check)};
+              },
+              "model"_a, nb::arg(ins[0].name), nb::arg(ins[1].name), nb::kw_only(), SPATIAL_PY_KW, doc);
+      } else {
+        m.def(fn,
+              [body](const ModelBase& b, ArrayLike x, ArrayLike y, ArrayLike z, PyData* data, int threads,
+                     bool check) { return R{body(b, {x, y, z}, data, threads, check)}; },
+              "model"_a, nb::arg(ins[0].name), nb::arg(ins[1].name), nb::arg(ins[2].name), nb::kw_only(),
+              SPATIAL_PY_KW, doc);
+      }
+    };
+    if (out_kind == 2) defs(std::common_type<FloatOrArray>{});
+    else defs(std::common_type<NDArray>{});
+  };
+  bind_vec("gravity", Op::Gravity, {{"q", true}}, 0, "Gravity torques G(q) = rnea(q, 0, 0): (nv,) or (B, nv).");
+  bind_vec("bias", Op::Bias, {{"q", true}, {"v", false}}, 0,
+           "Bias forces C(q, v) = rnea(q, v, 0): Coriolis, centrifugal and gravity terms.");
+  bind_vec("crba", Op::Crba, {{"q", true}}, 1, "Joint-space inertia H(q) (CRBA): (nv, nv), both triangles filled.");
+  bind_vec("forward_dynamics", Op::ForwardDynamics, {{"q", true}, {"v", false}, {"tau", false}}, 0,
+           "Forward dynamics by CRBA + the tree's LTDL factorisation: a = H^-1 (tau - C).");
+  bind_vec("kinetic_energy", Op::KineticEnergy, {{"q", true}, {"v", false}}, 2, "1/2 v^T H v: float or (B,).");
+  bind_vec("potential_energy", Op::PotentialEnergy, {{"q", true}}, 2, "-m g . c: float or (B,).");
+  bind_vec("center_of_mass", Op::CenterOfMass, {{"q", true}}, 4,
+           "Centre of mass (3,): fixed base: of the moving bodies, base coordinates; floating: whole robot, world.");
+  bind_vec("com_jacobian", Op::ComJacobian, {{"q", true}}, 5, "CoM Jacobian (3, nv): c_dot = Jc v.");
+  bind_vec("centroidal_momentum_matrix", Op::CentroidalMatrix, {{"q", true}}, 6,
+           "Centroidal momentum matrix A_G (6, nv): h_G = A_G v = [linear; angular about the CoM], world axes.");
+  bind_vec("centroidal_momentum", Op::CentroidalMomentum, {{"q", true}, {"v", false}}, 7,
+           "Centroidal momentum h_G (6,): [linear; angular about the CoM], world axes.");
+  bind_vec("difference", Op::Difference, {{"q0", true}, {"q1", true}}, 0,
+           "v such that integrate(q0, v) = q1 (floating base: the SE(3) logarithm, root body frame).");
+  bind_vec("normalize", Op::Normalize, {{"q", true}}, 3, "q with its quaternion normalised (a copy).");
+  bind_vec("inverse_inertia", Op::InverseInertia, {{"q", true}}, 1,
+           "H(q)^-1 (nv, nv) computed without forming H (ABA on unit torques), both triangles filled.");
+
+  m.def("aba",
+        [](const ModelBase& b, ArrayLike q, ArrayLike v, ArrayLike tau, ArrayLike fext, PyData* data, int threads,
+           bool check) {
+          Args args(b, "aba");
+          Call c;
+          c.op = Op::Aba;
+          c.in[0] = args.vector(q.h, "q", b.nq, "nq");
+          c.in[1] = args.vector(v.h, "v", b.nv, "nv");
+          c.in[2] = args.vector(tau.h, "tau", b.nv, "nv");
+          if (!fext.h.is_none()) c.in[3] = args.forces(fext.h, "fext", b.njoints + (b.floating ? 1 : 0));
+          Output a(args, {std::size_t(b.nv)});
+          c.out[0] = a.out();
+          execute(b, c, args, data, threads, check);
+          return a.array();
+        },
+        "model"_a, "q"_a, "v"_a, "tau"_a, "fext"_a.none() = nb::none(), nb::kw_only(), SPATIAL_PY_KW,
+        "Forward dynamics (ABA): a (nv,) or (B, nv).");
+
+  m.def("integrate",
+        [](const ModelBase& b, ArrayLike q, ArrayLike v, double dt, PyData* data, int threads, bool check) {
+          Args args(b, "integrate");
+          Call c;
+          c.op = Op::Integrate;
+          c.dt = dt;
+          c.in[0] = args.vector(q.h, "q", b.nq, "nq");
+          c.in[1] = args.vector(v.h, "v", b.nv, "nv");
+          Output o(args, {std::size_t(b.nq)});
+          c.out[0] = o.out();
+          execute(b, c, args, data, threads, check);
+          return o.array();
+        },
+        "model"_a, "q"_a, "v"_a, "dt"_a = 1.0, nb::kw_only(), SPATIAL_PY_KW,
+        "q (+) v dt on the configuration manifold (floating base: SE(3) exponential of the root's body twist).");
+
+  m.def("frame_placement",
+        [](const ModelBase& b, ArrayLike q, FrameArg frame, PyData* data, int threads, bool check) {
+          Args args(b, "frame_placement");
+          Call c;
+          c.op = Op::FramePlacement;
+          resolve_target(b, frame.h, "frame_placement", c);
+          c.in[0] = args.vector(q.h, "q", b.nq, "nq");
+          Output o(args, {4, 4});
+          c.out[0] = o.out();
+          execute(b, c, args, data, threads, check);
+          return o.array();
+        },
+        "model"_a, "q"_a, "frame"_a, nb::kw_only(), SPATIAL_PY_KW,
+        "Pose (4, 4) of a frame or body (name or frame index): [R p; 0 1], world (fixed base: base) coordinates.");
+  m.def("frame_jacobian",
+        [](const ModelBase& b, ArrayLike q, FrameArg frame, const std::string& reference, PyData* data,
+           int threads, bool check) {
+          Args args(b, "frame_jacobian");
+          Call c;
+          c.op = Op::FrameJacobian;
+          resolve_target(b, frame.h, "frame_jacobian", c);
+          c.reference = reference_of(reference, "frame_jacobian");
+          c.in[0] = args.vector(q.h, "q", b.nq, "nq");
+          Output o(args, {6, std::size_t(b.nv)});
+          c.out[0] = o.out();
+          execute(b, c, args, data, threads, check);
+          return o.array();
+        },
+        "model"_a, "q"_a, "frame"_a, "reference"_a = "local_world_aligned", nb::kw_only(), SPATIAL_PY_KW,
+        "Jacobian (6, nv) of a frame or body, rows [v_lin; omega]; reference 'local', 'world' or "
+        "'local_world_aligned' (Pinocchio's LOCAL, WORLD, LOCAL_WORLD_ALIGNED).");
+  m.def("frame_velocity",
+        [](const ModelBase& b, ArrayLike q, ArrayLike v, FrameArg frame, const std::string& reference,
+           PyData* data, int threads, bool check) {
+          Args args(b, "frame_velocity");
+          Call c;
+          c.op = Op::FrameVelocity;
+          resolve_target(b, frame.h, "frame_velocity", c);
+          c.reference = reference_of(reference, "frame_velocity");
+          c.in[0] = args.vector(q.h, "q", b.nq, "nq");
+          c.in[1] = args.vector(v.h, "v", b.nv, "nv");
+          Output o(args, {6});
+          c.out[0] = o.out();
+          execute(b, c, args, data, threads, check);
+          return o.array();
+        },
+        "model"_a, "q"_a, "v"_a, "frame"_a, "reference"_a = "local_world_aligned", nb::kw_only(), SPATIAL_PY_KW,
+        "Spatial velocity (6,) of a frame or body, [v_lin; omega], in the reference frame (= J v).");
+
+  m.def("rnea_derivatives",
+        [](const ModelBase& b, ArrayLike q, ArrayLike v, ArrayLike a, PyData* data, int threads, bool check) {
+          Args args(b, "rnea_derivatives");
+          Call c;
+          c.op = Op::RneaDerivatives;
+          c.in[0] = args.vector(q.h, "q", b.nq, "nq");
+          c.in[1] = args.vector(v.h, "v", b.nv, "nv");
+          c.in[2] = args.vector(a.h, "a", b.nv, "nv");
+          const std::size_t nv = std::size_t(b.nv);
+          Output dq(args, {nv, nv}), dv(args, {nv, nv});
+          c.out[0] = dq.out(), c.out[1] = dv.out();
+          execute(b, c, args, data, threads, check);
+          return std::make_tuple(dq.array(), dv.array());
+        },
+        "model"_a, "q"_a, "v"_a, "a"_a, nb::kw_only(), SPATIAL_PY_KW,
+        "(dtau_dq, dtau_dv), each (nv, nv); floating base: q-columns in the tangent space (Pinocchio's convention).");
+  m.def("aba_derivatives",
+        [](const ModelBase& b, ArrayLike q, ArrayLike v, ArrayLike tau, PyData* data, int threads, bool check) {
+          Args args(b, "aba_derivatives");
+          Call c;
+          c.op = Op::AbaDerivatives;
+          c.in[0] = args.vector(q.h, "q", b.nq, "nq");
+          c.in[1] = args.vector(v.h, "v", b.nv, "nv");
+          c.in[2] = args.vector(tau.h, "tau", b.nv, "nv");
+          const std::size_t nv = std::size_t(b.nv);
+          Output dq(args, {nv, nv}), dv(args, {nv, nv}), dt(args, {nv, nv});
+          c.out[0] = dq.out(), c.out[1] = dv.out(), c.out[2] = dt.out();
+          execute(b, c, args, data, threads, check);
+          return std::make_tuple(dq.array(), dv.array(), dt.array());
+        },
+        "model"_a, "q"_a, "v"_a, "tau"_a, nb::kw_only(), SPATIAL_PY_KW,
+        "(dqdd_dq, dqdd_dv, dqdd_dtau = H^-1), each (nv, nv).");
+#undef SPATIAL_PY_KW
+}
