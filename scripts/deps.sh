@@ -12,6 +12,7 @@ packages=(
   libclang-rt-14-dev
   python3
   python3-venv
+  python3-dev
   libeigen3-dev
   liburdfdom-dev
   liborocos-kdl-dev

@@ -18,13 +18,16 @@
 #      walk (8 steps straight), walk_turn (--turn 0.15), walk_no_second_stage (--second-stage 0) and walk_pendulum
 #      (--zmp-model double-pendulum); spatial-dyn plots each by tools/plot_walk.py with $SPATIAL_PYTHON (set here
 #      to build/venv's python when it has matplotlib). A variant that fails is reported and does not stop the run.
-#   7. tools/report.py: build/report/report.md, summary.json and the PNG charts; prints the headline table.
+#   7. The Python package (scripts/python.sh: built into build/venv), its example (tools/python_torque_map.py: the
+#      stance leg's gravity-torque map against the motor limits) and its benchmark (bench/python_bench.py: overhead
+#      of one call, batches on one and all cores, against Pinocchio's Python API), into build/report/python/.
+#   8. tools/report.py: build/report/report.md, summary.json and the PNG charts; prints the headline table.
 #
 # Extra arguments are passed to every benchmark binary, e.g.  scripts/main.sh --benchmark_filter=stance21
 # Environment: JOBS (build parallelism, default 2), REPETITIONS (default 5), MIN_TIME (seconds per repetition,
 # default 0.05), COMPILERS (default "gcc clang"), COMPARED_BENCHES (what the compilers after the first build and
 # run; default "bench_algorithms bench_floating bench_kdl bench_pinocchio error_study"; "all": every binary),
-# SKIP_PEERS=1 (no venv, no Pinocchio, no charts).
+# SKIP_PEERS=1 (no Pinocchio, no charts; build/venv then holds only the Python package and its build tools).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
@@ -159,6 +162,16 @@ run_walk walk_turn --turn 0.15
 run_walk walk_no_second_stage --second-stage 0
 run_walk walk_pendulum --zmp-model double-pendulum
 run_walk walk_public --length 0.087 --period 1.28 --double-support 0.05 --com-height 0.275
+
+stage "Python package (scripts/python.sh), its example and benchmark"
+bash scripts/python.sh
+rm -rf "$report_dir/python"
+if build/venv/bin/python -c "import matplotlib" >/dev/null 2>&1; then
+  build/venv/bin/python tools/python_torque_map.py --out "$report_dir/python"
+else
+  echo "main.sh: no matplotlib in build/venv (SKIP_PEERS?): the torque map is skipped"
+fi
+build/venv/bin/python bench/python_bench.py --out "$report_dir/python"
 
 stage "report"
 "$python" tools/report.py --input "$raw_dir" --output "$report_dir"

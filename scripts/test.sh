@@ -3,10 +3,12 @@
 #   1. Release build (preset "release", build/): all tests, including the packaging test. Both builds make only the
 #      target spatial_test_programs (the test executables and the tools they run), not the benchmarks and the iLQR
 #      example: scripts/main.sh builds and runs those.
-#   2. Debug build with ASan + UBSan (preset "asan", build-asan/; -g1: line tables only, enough for the sanitizers'
+#   2. The Python package (scripts/python.sh --test): built into build/venv (with Pinocchio's `pin` from
+#      scripts/peers.sh, whose Python API the package is checked against) and its pytest suite (python/tests).
+#   3. Debug build with ASan + UBSan (preset "asan", build-asan/; -g1: line tables only, enough for the sanitizers'
 #      stack traces and a fifth less compile time than -g): the unit, AVX2-kernel and stress tests (tests/CMakeLists.txt).
-#   3. The URDF loader's fuzz target (scripts/fuzz.sh, clang + libFuzzer + ASan/UBSan, build-fuzz/) for 60 s.
-# Usage: scripts/test.sh [--quick]    --quick skips steps 2 and 3.
+#   4. The URDF loader's fuzz target (scripts/fuzz.sh, clang + libFuzzer + ASan/UBSan, build-fuzz/) for 60 s.
+# Usage: scripts/test.sh [--quick]    --quick skips steps 3 and 4.
 # JOBS (default 2) sets the parallelism of builds and tests.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
@@ -28,6 +30,11 @@ cmake --preset release
 cmake --build --preset release --parallel "$jobs" --target spatial_test_programs
 ctest --test-dir build --output-on-failure --no-tests=error -j "$jobs"
 echo "test.sh: release stage done at ${SECONDS} s"
+
+echo "==== Python package: build and pytest ===="
+bash scripts/peers.sh
+bash scripts/python.sh --test
+echo "test.sh: Python stage done at ${SECONDS} s"
 
 if [[ $quick -eq 1 ]]; then
   echo "test.sh: --quick given, sanitizer build and fuzzer skipped"
