@@ -89,12 +89,10 @@ def load_urdf(path: str, *, root: Optional[str] = None, floating: bool = False,
     (default: loaded, with a message in model.warnings). axis_aligned: turn body frames so that joints about -x, -y,
     -z use the cheaper axis-aligned joint types (same q, same physics).
 
-    Raises ModelError (a ValueError) naming the file, link or joint and the reason; FileNotFoundError if the file
-    does not exist.
+    Raises ModelError (a ValueError) naming the file, link or joint and the reason (a file that cannot be read
+    included).
     """
     path = _os.fspath(path)
-    if not _os.path.isfile(path):
-        raise FileNotFoundError(f"load_urdf: no such file: '{path}'")
     return _spatial._load_urdf(path, root, floating, dict(lock) if lock is not None else None, subtree, gravity,
                                strict_inertia, axis_aligned)
 

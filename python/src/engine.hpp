@@ -13,6 +13,8 @@
 #include <spatial/spatial.hpp>
 #include <spatial/urdf.hpp>
 
+#include "contacts.hpp"
+
 #include <Eigen/Dense>
 
 #include <cstdint>
@@ -93,6 +95,8 @@ class ModelBase {
   /// each with a workspace of its own; every state is computed by the same code whatever the split.
   virtual void run(const Call& call, Workspace& ws, int threads) const = 0;
   virtual void neutral(double* q) const = 0;
+  /// A contact set on this model (contacts.hpp, contacts_impl.hpp).
+  virtual std::unique_ptr<ContactsBase> make_contacts(const std::vector<ContactSpec>& specs, double damping) const = 0;
 
   /// The model's own workspace, for calls made without `data=` (the lock guards it against two Python threads
   /// that released the GIL in a batch; a caller that finds it busy gets a fresh one).

@@ -4,6 +4,7 @@
 /// T a compile-time tree or `DynamicTree`). Included by one source file per model kind, so that the kinds compile in
 /// parallel.
 
+#include "contacts_impl.hpp"
 #include "engine.hpp"
 
 #include <algorithm>
@@ -88,6 +89,10 @@ class Engine final : public ModelBase {
     if constexpr (kFloating) out[6] = 1.0;
   }
 
+  std::unique_ptr<ContactsBase> make_contacts(const std::vector<ContactSpec>& specs, double damping) const override {
+    return make_contacts_for<M>(model_, specs, damping);
+  }
+
   void run(const Call& c, Workspace& ws, int threads) const override {
     switch (c.op) {
 #define SPATIAL_PY_OP(name) \
@@ -120,8 +125,11 @@ class Engine final : public ModelBase {
  private:
   M model_;
 
+  /// Not inlined: one compiled copy of the per-state code serves every thread and the single-threaded path, so that
+  /// a state's result does not depend on how the batch was split (copies inlined at different call sites may be
+  /// contracted into FMAs differently under -march=native: 1-ulp differences in center_of_mass were measured).
   template <Op O>
-  void range(const Call& c, Ws& ws, std::ptrdiff_t begin, std::ptrdiff_t end) const {
+  __attribute__((noinline)) void range(const Call& c, Ws& ws, std::ptrdiff_t begin, std::ptrdiff_t end) const {
     for (std::ptrdiff_t b = begin; b < end; ++b) one<O>(c, ws, b);
   }
 

@@ -1,0 +1,652 @@
+/// \file bind_contacts.cpp
+/// Contact dynamics from Python: the contact descriptions `Contact6D` / `Contact3D`, the contact set `Contacts`, and
+/// `constrained_forward_dynamics`, `impulse_dynamics`, `contact_inverse_dynamics`, `contact_jacobian`,
+/// `contact_wrench`, `center_of_pressure`, `multibody_zmp`. Same conventions as module.cpp: one state ((n,) arrays) or
+/// a batch ((B, n)), fresh float64 outputs, batches without the GIL on `threads` threads, `check=True` refuses
+/// non-finite inputs, errors name the function and the argument.
+
+#include "engine.hpp"
+
+#include <nanobind/nanobind.h>
+#include <nanobind/stl/shared_ptr.h>
+#include <nanobind/stl/string.h>
+#include <nanobind/stl/tuple.h>
+#include <nanobind/stl/vector.h>
+
+#define NPY_NO_DEPRECATED_API NPY_1_7_API_VERSION
+#include <numpy/arrayobject.h>
+
+#include <algorithm>
+#include <cmath>
+#include <initializer_list>
+#include <sstream>
+#include <thread>
+
+namespace nb = nanobind;
+using namespace nb::literals;
+
+namespace spatial::python::contacts_py {
+
+// ---- argument and result types (copies of module.cpp's: to be shared through a header) -------------------------
+
+/// Argument and result types that only name themselves in the generated stubs.
+struct ArrayLike {
+  nb::handle h;
+};
+struct NDArray {
+  nb::object o;
+};
+struct FrameArg {
+  nb::handle h;
+};
+struct SoleArg {
+  nb::handle h;
+};
+struct BoolOrArray {
+  nb::object o;
+};
+
+}  // namespace spatial::python::contacts_py
+
+namespace nanobind::detail {
+namespace cp = spatial::python::contacts_py;
+template <>
+struct type_caster<cp::ArrayLike> {
+  NB_TYPE_CASTER(cp::ArrayLike, const_name("numpy.typing.ArrayLike"))
+  bool from_python(handle src, uint8_t, cleanup_list*) noexcept {
+    value.h = src;
+    return true;
+  }
+};
+template <>
+struct type_caster<cp::NDArray> {
+  NB_TYPE_CASTER(cp::NDArray, const_name("numpy.typing.NDArray[numpy.float64]"))
+  static handle from_cpp(const cp::NDArray& v, rv_policy, cleanup_list*) noexcept { return v.o.inc_ref(); }
+};
+template <>
+struct type_caster<cp::BoolOrArray> {
+  NB_TYPE_CASTER(cp::BoolOrArray, const_name("bool | numpy.typing.NDArray[numpy.bool_]"))
+  static handle from_cpp(const cp::BoolOrArray& v, rv_policy, cleanup_list*) noexcept { return v.o.inc_ref(); }
+};
+template <>
+struct type_caster<cp::FrameArg> {
+  NB_TYPE_CASTER(cp::FrameArg, const_name("str | int"))
+  bool from_python(handle src, uint8_t, cleanup_list*) noexcept {
+    value.h = src;
+    return true;
+  }
+};
+template <>
+struct type_caster<cp::SoleArg> {
+  NB_TYPE_CASTER(cp::SoleArg, const_name("tuple[float, float, float, float] | None"))
+  bool from_python(handle src, uint8_t, cleanup_list*) noexcept {
+    value.h = src;
+    return true;
+  }
+};
+}  // namespace nanobind::detail
+
+namespace spatial::python {
+namespace contacts_py {
+namespace {
+
+/// An input array: C-contiguous, aligned float64 (the argument itself when it is one, else a converted copy).
+struct Array {
+  nb::object obj;
+  PyArrayObject* arr() const { return reinterpret_cast<PyArrayObject*>(obj.ptr()); }
+  int ndim() const { return PyArray_NDIM(arr()); }
+  std::size_t shape(int k) const { return std::size_t(PyArray_DIM(arr(), k)); }
+  std::size_t size() const { return std::size_t(PyArray_SIZE(arr())); }
+  const double* data() const { return static_cast<const double*>(PyArray_DATA(arr())); }
+};
+
+std::string shape_str(const Array& a) {
+  std::ostringstream s;
+  s << '(';
+  for (int k = 0; k < a.ndim(); ++k) s << (k ? ", " : "") << a.shape(k);
+  s << (a.ndim() == 1 ? ",)" : ")");
+  return s.str();
+}
+
+/// module.cpp's to_array: no copy for a C-contiguous float64 array; NumPy's safe casting for the rest (TypeError
+/// naming the argument for complex numbers, strings, objects).
+Array to_array(nb::handle h, const char* fn, const char* arg) {
+  PyObject* o = h.ptr();
+  if (PyArray_Check(o)) {
+    auto* a = reinterpret_cast<PyArrayObject*>(o);
+    if (PyArray_TYPE(a) == NPY_DOUBLE && PyArray_IS_C_CONTIGUOUS(a) && PyArray_ISALIGNED(a) && PyArray_ISNOTSWAPPED(a))
+      return {nb::borrow(h)};
+  }
+  PyObject* c = PyArray_FromAny(o, PyArray_DescrFromType(NPY_DOUBLE), 0, 0,
+                                NPY_ARRAY_C_CONTIGUOUS | NPY_ARRAY_ALIGNED, nullptr);
+  if (!c) {
+    nb::python_error e;
+    throw nb::type_error((std::string(fn) + ": argument '" + arg +
+                          "' must be an array of real numbers, convertible to float64 (" + e.what() + ")").c_str());
+  }
+  return {nb::steal(c)};
+}
+
+/// The arguments of one call (module.cpp's Args, with the sizes named for contacts too).
+class Args {
+ public:
+  Args(const ModelBase& m, const char* fn) : m_(m), fn_(fn) {}
+
+  /// A per-state vector of `n` entries ((n,) or (B, n)); `what` names the size in errors.
+  StridedIn vector(nb::handle h, const char* arg, int n, const char* what) {
+    Array a = to_array(h, fn_, arg);
+    const bool ok = (a.ndim() == 1 && a.shape(0) == std::size_t(n)) || (a.ndim() == 2 && a.shape(1) == std::size_t(n));
+    if (!ok) {
+      std::ostringstream s;
+      s << fn_ << ": argument '" << arg << "' has shape " << shape_str(a) << "; " << what << " = " << n
+        << ", so expected (" << n << ",) or (B, " << n << ")";
+      throw nb::value_error(s.str().c_str());
+    }
+    const bool batch = a.ndim() == 2;
+    return keep(std::move(a), arg, batch, n);
+  }
+  StridedIn q(nb::handle h) { return vector(h, "q", m_.nq, model_size("nq").c_str()); }
+  StridedIn v(nb::handle h, const char* arg) { return vector(h, arg, m_.nv, model_size("nv").c_str()); }
+
+  bool batched() const { return batch_ >= 0; }
+  std::ptrdiff_t count() const { return batch_ >= 0 ? batch_ : 1; }
+
+  void check_finite() const {
+    for (std::size_t j = 0; j < nkept_; ++j) {
+      const Kept& k = kept_[j];
+      const double* p = k.array.data();
+      const std::size_t size = k.array.size();
+      for (std::size_t i = 0; i < size; ++i) {
+        if (std::isfinite(p[i])) continue;
+        std::ostringstream s;
+        s << fn_ << ": argument '" << k.name << "' has a non-finite entry (" << p[i] << ")";
+        if (k.batched) s << " in state " << i / std::size_t(k.width) << ",";
+        s << " at index " << i % std::size_t(k.width);
+        throw nb::value_error(s.str().c_str());
+      }
+    }
+  }
+
+ private:
+  struct Kept {
+    Array array;
+    const char* name = nullptr;
+    bool batched = false;
+    int width = 1;
+  };
+  std::string model_size(const char* what) const { return std::string("the model '") + m_.name + "' has " + what; }
+  StridedIn keep(Array a, const char* arg, bool batched, int width) {
+    if (batched) {
+      const auto b = static_cast<std::ptrdiff_t>(a.shape(0));
+      if (batch_ >= 0 && b != batch_) {
+        std::ostringstream s;
+        s << fn_ << ": argument '" << arg << "' has " << b << " states, an earlier argument " << batch_;
+        throw nb::value_error(s.str().c_str());
+      }
+      batch_ = b;
+    }
+    StridedIn in{a.data(), batched ? std::ptrdiff_t(width) : 0};
+    kept_[nkept_++] = {std::move(a), arg, batched, width};
+    return in;
+  }
+  const ModelBase& m_;
+  const char* fn_;
+  std::ptrdiff_t batch_ = -1;
+  Kept kept_[4];
+  std::size_t nkept_ = 0;
+};
+
+/// A fresh NumPy array of shape (B, dims...) or (dims...), float64 (or bool).
+struct Output {
+  Output(const Args& args, std::initializer_list<std::size_t> dims, int type = NPY_DOUBLE) {
+    npy_intp shape[4];
+    int nd = 0;
+    if (args.batched()) shape[nd++] = npy_intp(args.count());
+    per_state = 1;
+    for (std::size_t d : dims) shape[nd++] = npy_intp(d), per_state *= std::ptrdiff_t(d);
+    PyObject* a = PyArray_SimpleNew(nd, shape, type);
+    if (!a) throw nb::python_error();
+    obj = nb::steal(a);
+    data = PyArray_DATA(reinterpret_cast<PyArrayObject*>(a));
+  }
+  StridedOut out() const { return {static_cast<double*>(data), per_state}; }
+  bool* flags() const { return static_cast<bool*>(data); }
+  NDArray array() const { return {obj}; }
+
+  nb::object obj;
+  void* data = nullptr;
+  std::ptrdiff_t per_state = 1;
+};
+
+int thread_count(int threads) {
+  if (threads < 0) throw nb::value_error("threads must be >= 0 (0: all cores)");
+  if (threads == 0) return std::max(1, int(std::thread::hardware_concurrency()));
+  return threads;
+}
+
+int index_of(const std::vector<std::string>& names, const std::string& name) {
+  for (std::size_t k = 0; k < names.size(); ++k)
+    if (names[k] == name) return int(k);
+  return -1;
+}
+
+// ---- contact descriptions and contact sets ---------------------------------------------------------------------
+
+/// A contact as described from Python (resolved against a model by Contacts).
+struct Contact {
+  nb::object frame;  // str or int
+  bool six_d = true;
+  std::string reference;
+  double kp = 0, kd = 0, friction = 0.6;
+  bool has_sole = false;
+  double sole[4] = {0, 0, 0, 0};
+};
+struct Contact6D : Contact {};
+struct Contact3D : Contact {};
+
+ReferenceFrame reference_of(const std::string& r, const char* fn) {
+  if (r == "local") return ReferenceFrame::Local;
+  if (r == "local_world_aligned") return ReferenceFrame::LocalWorldAligned;
+  if (r == "world") return ReferenceFrame::World;  // refused by ContactData (ModelError naming the contact)
+  throw nb::value_error((std::string(fn) + ": reference '" + r +
+                         "' is not one of 'local', 'local_world_aligned' (the axes lambda is reported in)").c_str());
+}
+
+void init_contact(Contact& c, const char* fn, bool six_d, nb::handle frame, const std::string& reference, double kp,
+                  double kd, double friction, nb::handle sole) {
+  if (!nb::isinstance<nb::str>(frame)) {
+    int k = 0;
+    if (nb::isinstance<nb::bool_>(frame) || !nb::try_cast<int>(frame, k))
+      throw nb::type_error((std::string(fn) + ": 'frame' must be a frame name (str) or a frame index (int), not " +
+                            nb::inst_name(frame).c_str()).c_str());
+  }
+  if (reference == "world")
+    throw nb::value_error((std::string(fn) + ": reference 'world' is not offered (the moment would be about the "
+                           "world origin): use 'local' or 'local_world_aligned'").c_str());
+  reference_of(reference, fn);
+  const auto check = [fn](double x, const char* what) {
+    if (!std::isfinite(x) || x < 0)
+      throw nb::value_error((std::string(fn) + ": '" + what + "' must be finite and >= 0, not " +
+                             std::to_string(x)).c_str());
+  };
+  check(kp, "kp");
+  check(kd, "kd");
+  check(friction, "friction");
+  c.frame = nb::borrow(frame);
+  c.six_d = six_d;
+  c.reference = reference;
+  c.kp = kp, c.kd = kd, c.friction = friction;
+  if (!sole.is_none()) {
+    std::vector<double> s;
+    bool ok = nb::isinstance<nb::sequence>(sole) && !nb::isinstance<nb::str>(sole);
+    if (ok) {
+      for (nb::handle x : sole) {
+        double d;
+        if (!nb::try_cast<double>(x, d)) {
+          ok = false;
+          break;
+        }
+        s.push_back(d);
+      }
+    }
+    if (!ok || s.size() != 4 || !std::all_of(s.begin(), s.end(), [](double x) { return std::isfinite(x); }))
+      throw nb::value_error((std::string(fn) + ": 'sole' must be 4 finite numbers (x_min, x_max, y_min, y_max) in "
+                             "metres, in the frame's x-y plane").c_str());
+    if (s[0] > s[1] || s[2] > s[3])
+      throw nb::value_error((std::string(fn) + ": 'sole' (x_min, x_max, y_min, y_max) needs x_min <= x_max and "
+                             "y_min <= y_max").c_str());
+    c.has_sole = true;
+    std::copy(s.begin(), s.end(), c.sole);
+  }
+}
+
+std::string describe(const Contact& c) {
+  std::ostringstream s;
+  s << (c.six_d ? "Contact6D(" : "Contact3D(") << nb::repr(c.frame).c_str() << ", reference='" << c.reference
+    << "', kp=" << c.kp << ", kd=" << c.kd << ", friction=" << c.friction;
+  if (c.six_d && c.has_sole)
+    s << ", sole=(" << c.sole[0] << ", " << c.sole[1] << ", " << c.sole[2] << ", " << c.sole[3] << ")";
+  s << ")";
+  return s.str();
+}
+
+/// What Python's `Contacts` holds.
+struct PyContacts {
+  std::shared_ptr<ModelBase> model;  // declared first: destroyed after impl, which refers to its C++ model
+  std::unique_ptr<ContactsBase> impl;
+  std::vector<nb::object> descriptions;
+};
+
+PyContacts make_contact_set(std::shared_ptr<ModelBase> model, nb::handle list, double damping) {
+  const char* fn = "Contacts";
+  if (!std::isfinite(damping) || damping < 0)
+    throw nb::value_error(("Contacts: 'damping' must be finite and >= 0, not " + std::to_string(damping)).c_str());
+  std::vector<nb::object> items;
+  if (nb::isinstance<Contact>(list)) {
+    items.push_back(nb::borrow(list));
+  } else if (nb::isinstance<nb::sequence>(list) && !nb::isinstance<nb::str>(list)) {
+    for (nb::handle h : list) items.push_back(nb::borrow(h));
+  } else {
+    throw nb::type_error("Contacts: 'contacts' must be a list of Contact6D / Contact3D");
+  }
+  std::vector<ContactSpec> specs;
+  for (std::size_t k = 0; k < items.size(); ++k) {
+    if (!nb::isinstance<Contact>(items[k]))
+      throw nb::type_error(("Contacts: contacts[" + std::to_string(k) + "] is a " +
+                            nb::inst_name(items[k]).c_str() + ", not a Contact6D or Contact3D").c_str());
+    const Contact& c = nb::cast<const Contact&>(items[k]);
+    ContactSpec s;
+    if (nb::isinstance<nb::str>(c.frame)) {
+      const std::string name = nb::cast<std::string>(c.frame);
+      s.frame = index_of(model->frame_names, name);
+      if (s.frame < 0) {
+        std::string msg = std::string(fn) + ": contacts[" + std::to_string(k) + "]: unknown frame '" + name +
+                          "' in the model '" + model->name + "'";
+        if (index_of(model->body_names, name) >= 0)
+          msg += " ('" + name + "' is a body; contacts hold the model's frames, model.frame_names)";
+        msg += spatial::detail::did_you_mean(name, model->frame_names);
+        throw nb::key_error(msg.c_str());
+      }
+    } else {
+      s.frame = nb::cast<int>(c.frame);  // out of range: ModelError from ContactData
+    }
+    s.six_d = c.six_d;
+    s.reference = reference_of(c.reference, fn);
+    s.kp = c.kp, s.kd = c.kd, s.friction = c.friction;
+    s.sole_x_min = c.sole[0], s.sole_x_max = c.sole[1], s.sole_y_min = c.sole[2], s.sole_y_max = c.sole[3];
+    specs.push_back(s);
+  }
+  PyContacts pc;
+  pc.impl = model->make_contacts(specs, damping);
+  if (!pc.impl) throw std::runtime_error("Contacts: this model kind has no contact engine");
+  pc.model = std::move(model);
+  pc.descriptions = std::move(items);
+  return pc;
+}
+
+/// Runs a contact call, without the GIL for batches.
+void execute(ContactsBase& impl, ContactCall& call, const Args& args, int threads, bool check) {
+  if (check) args.check_finite();
+  call.count = args.count();
+  const int t = thread_count(threads);
+  if (args.batched()) {
+    nb::gil_scoped_release release;
+    impl.run(call, t);
+  } else {
+    impl.run(call, 1);
+  }
+}
+
+StridedIn lambda_arg(Args& args, const PyContacts& pc, nb::handle h, const char* arg) {
+  return args.vector(h, arg, pc.impl->rows, "the contact set's rows (contacts.rows)");
+}
+
+}  // namespace
+}  // namespace contacts_py
+
+void bind_contacts(nb::module_& m) {
+  using namespace contacts_py;
+  if (_import_array() < 0) throw nb::python_error();  // this source's own pointer to NumPy's C API
+
+  nb::class_<Contact>(m, "Contact",
+                      "A rigid contact description (Contact6D or Contact3D), to be placed in a Contacts set.")
+      .def_prop_ro("frame", [](const Contact& c) { return c.frame; }, "The frame: a name or an index of frame_names.")
+      .def_prop_ro("type", [](const Contact& c) { return std::string(c.six_d ? "6d" : "3d"); }, "'6d' or '3d'.")
+      .def_prop_ro("reference", [](const Contact& c) { return c.reference; },
+                   "Axes lambda is reported in: 'local' (the frame's) or 'local_world_aligned' (world axes).")
+      .def_prop_ro("kp", [](const Contact& c) { return c.kp; }, "Baumgarte position gain [1/s^2].")
+      .def_prop_ro("kd", [](const Contact& c) { return c.kd; }, "Baumgarte velocity gain [1/s].")
+      .def_prop_ro("friction", [](const Contact& c) { return c.friction; },
+                   "Friction coefficient mu (contact_inverse_dynamics' friction pyramid).")
+      .def_prop_ro("sole",
+                   [](const Contact& c) -> nb::object {
+                     if (!c.has_sole) return nb::none();
+                     return nb::make_tuple(c.sole[0], c.sole[1], c.sole[2], c.sole[3]);
+                   },
+                   "(x_min, x_max, y_min, y_max) [m] in the frame's x-y plane, or None (6D only).")
+      .def("__repr__", &describe);
+
+  nb::class_<Contact6D, Contact>(
+      m, "Contact6D",
+      "A 6D contact (a flat foot, a weld): the frame's whole spatial velocity is held at zero.\n\n"
+      "Constraint rows: the 6 rows of frame_jacobian(frame, reference='local'), linear first, in the frame's axes.\n"
+      "lambda (6,): what the ground applies to the robot at the frame's origin, [fx fy fz nx ny nz] (force, then\n"
+      "moment about the frame's origin), in the axes of `reference`: 'local' (the frame's, default) or\n"
+      "'local_world_aligned' (world axes). frame: a name or index of model.frame_names.\n"
+      "kp [1/s^2], kd [1/s]: Baumgarte gains on the pose error against the target (Contacts.set_targets) and the\n"
+      "velocity (default 0: the pure acceleration constraint). friction (mu) and sole (x_min, x_max, y_min, y_max)\n"
+      "[m], the rectangle of the frame's x-y plane the foot rests on (z: the normal, from the ground into the robot),\n"
+      "are used by contact_inverse_dynamics only: the wrench is a non-negative combination of forces at the sole's\n"
+      "four corners inside the friction pyramid |fx|, |fy| <= mu fz. sole=None: a point at the frame's origin.")
+      .def("__init__",
+           [](Contact6D* self, FrameArg frame, const std::string& reference, double kp, double kd, double friction,
+              SoleArg sole) {
+             new (self) Contact6D();
+             init_contact(*self, "Contact6D", true, frame.h, reference, kp, kd, friction, sole.h);
+           },
+           "frame"_a, nb::kw_only(), "reference"_a = "local", "kp"_a = 0.0, "kd"_a = 0.0, "friction"_a = 0.6,
+           "sole"_a.none() = nb::none());
+
+  nb::class_<Contact3D, Contact>(
+      m, "Contact3D",
+      "A 3D (point) contact: the velocity of the frame's origin is held at zero.\n\n"
+      "Constraint rows: the 3 linear rows of frame_jacobian(frame, reference='local_world_aligned') (world axes).\n"
+      "lambda (3,): the force [fx fy fz] the ground applies to the robot at the frame's origin, in the axes of\n"
+      "`reference`: 'local_world_aligned' (world axes, default) or 'local' (the frame's). kp, kd: Baumgarte gains\n"
+      "(see Contact6D). friction: contact_inverse_dynamics' pyramid about the world's +z.")
+      .def("__init__",
+           [](Contact3D* self, FrameArg frame, const std::string& reference, double kp, double kd, double friction) {
+             new (self) Contact3D();
+             init_contact(*self, "Contact3D", false, frame.h, reference, kp, kd, friction, nb::none());
+           },
+           "frame"_a, nb::kw_only(), "reference"_a = "local_world_aligned", "kp"_a = 0.0, "kd"_a = 0.0,
+           "friction"_a = 0.6);
+
+  nb::class_<PyContacts>(
+      m, "Contacts",
+      "A set of rigid contacts on a model, with its buffers: Contacts(model, [Contact6D(...), Contact3D(...)],\n"
+      "damping=0.0).\n\n"
+      "The constraint rows (m = contacts.rows) and the forces lambda (m,) stack the contacts in the list's order,\n"
+      "each contact's block at contacts.offsets[k] (6 rows for a 6D contact, linear first; 3 for a 3D one).\n"
+      "damping mu > 0: damped least squares for redundant contacts (lambda = (J H^-1 J^T + mu I)^-1 (...)).\n"
+      "Raises KeyError for an unknown frame name, ModelError for a frame index out of range or a 'world' reference.\n"
+      "A set may be used from several Python threads (a thread that finds its buffers busy uses fresh ones).")
+      .def("__init__",
+           [](PyContacts* self, std::shared_ptr<ModelBase> model, nb::handle contacts, double damping) {
+             PyContacts made = make_contact_set(std::move(model), contacts, damping);
+             new (self) PyContacts(std::move(made));
+           },
+           "model"_a, "contacts"_a, "damping"_a = 0.0)
+      .def_prop_ro("model", [](const PyContacts& c) { return c.model; }, "The model.")
+      .def_prop_ro("rows", [](const PyContacts& c) { return c.impl->rows; }, "m: constraint rows (sum of 6 / 3).")
+      .def_prop_ro("names", [](const PyContacts& c) { return c.impl->names; }, "The contacts' frame names.")
+      .def_prop_ro("frames", [](const PyContacts& c) { return c.impl->frames; },
+                   "The contacts' frame indices (into model.frame_names).")
+      .def_prop_ro("sizes", [](const PyContacts& c) { return c.impl->dims; }, "Rows per contact (6 or 3).")
+      .def_prop_ro("offsets", [](const PyContacts& c) { return c.impl->offsets; },
+                   "First row of each contact in lambda and in the Jacobian.")
+      .def_prop_ro("damping", [](const PyContacts& c) { return c.impl->damping; }, "The damping mu.")
+      .def_prop_ro("contacts", [](const PyContacts& c) { return c.descriptions; }, "The contact descriptions.")
+      .def_prop_ro("targets",
+                   [](const PyContacts& c) {
+                     npy_intp shape[3] = {npy_intp(c.impl->names.size()), 4, 4};
+                     PyObject* a = PyArray_SimpleNew(3, shape, NPY_DOUBLE);
+                     if (!a) throw nb::python_error();
+                     c.impl->targets(static_cast<double*>(PyArray_DATA(reinterpret_cast<PyArrayObject*>(a))));
+                     return NDArray{nb::steal(a)};
+                   },
+                   "The Baumgarte targets (k, 4, 4): each contact's world pose [R p; 0 1] (default identity).")
+      .def("set_targets",
+           [](PyContacts& c, ArrayLike q) {
+             Args args(*c.model, "Contacts.set_targets");
+             const StridedIn in = args.q(q.h);
+             if (args.batched()) throw nb::value_error("Contacts.set_targets: 'q' must be one configuration (nq,)");
+             args.check_finite();
+             c.impl->set_targets(in.p);
+           },
+           "q"_a,
+           "Sets every contact's target to its frame's current world pose at q (nq,), so that the Baumgarte position "
+           "error starts at zero (set_contact_targets).")
+      .def("__len__", [](const PyContacts& c) { return c.impl->names.size(); })
+      .def("__repr__", [](const PyContacts& c) {
+        std::ostringstream s;
+        s << "<spatial.Contacts on '" << c.model->name << "': ";
+        for (std::size_t k = 0; k < c.impl->names.size(); ++k)
+          s << (k ? ", " : "") << c.impl->names[k] << " (" << c.impl->dims[k] << "D)";
+        s << "; rows = " << c.impl->rows << ", damping = " << c.impl->damping << ">";
+        return s.str();
+      });
+
+#define SPATIAL_PY_KW "threads"_a = 1, "check"_a = false
+  m.def("constrained_forward_dynamics",
+        [](PyContacts& pc, ArrayLike q, ArrayLike v, ArrayLike tau, int threads, bool check) {
+          Args args(*pc.model, "constrained_forward_dynamics");
+          ContactCall c;
+          c.op = ContactOp::ForwardDynamics;
+          c.in[0] = args.q(q.h);
+          c.in[1] = args.v(v.h, "v");
+          c.in[2] = args.v(tau.h, "tau");
+          const std::size_t nv = std::size_t(pc.model->nv), rows = std::size_t(pc.impl->rows);
+          Output a(args, {nv}), lam(args, {rows});
+          c.out[0] = a.out(), c.out[1] = lam.out();
+          execute(*pc.impl, c, args, threads, check);
+          return std::make_tuple(a.array(), lam.array());
+        },
+        "contacts"_a, "q"_a, "v"_a, "tau"_a, nb::kw_only(), SPATIAL_PY_KW,
+        "Forward dynamics with the contacts held: (a, lam), a (nv,) and lam (m,) (or (B, nv), (B, m)) solving\n"
+        "  H a + C(q, v) = tau + J^T lam,   J a + Jdot v = -kd J v - kp e\n"
+        "(J: the contacts' stacked rows, see Contact6D / Contact3D; e: the pose error against the targets; zero gains:\n"
+        "the frames' accelerations are held at zero). lam: each contact's force (6D: [f; n about the frame's origin])\n"
+        "that the ground applies to the robot, in its reference axes, in the contacts' order (contacts.offsets).\n"
+        "NaN for a state where J H^-1 J^T (+ damping) is singular (redundant contacts: set damping > 0).");
+
+  m.def("impulse_dynamics",
+        [](PyContacts& pc, ArrayLike q, ArrayLike v, double restitution, int threads, bool check) {
+          if (!(restitution >= 0.0 && restitution <= 1.0))
+            throw nb::value_error(("impulse_dynamics: 'restitution' must be in [0, 1], not " +
+                                   std::to_string(restitution)).c_str());
+          Args args(*pc.model, "impulse_dynamics");
+          ContactCall c;
+          c.op = ContactOp::Impulse;
+          c.restitution = restitution;
+          c.in[0] = args.q(q.h);
+          c.in[1] = args.v(v.h, "v");
+          const std::size_t nv = std::size_t(pc.model->nv), rows = std::size_t(pc.impl->rows);
+          Output va(args, {nv}), imp(args, {rows});
+          c.out[0] = va.out(), c.out[1] = imp.out();
+          execute(*pc.impl, c, args, threads, check);
+          return std::make_tuple(va.array(), imp.array());
+        },
+        "contacts"_a, "q"_a, "v"_a, "restitution"_a = 0.0, nb::kw_only(), SPATIAL_PY_KW,
+        "An impact at the contacts (q does not change): (v_after, impulses), (nv,) and (m,) (or batched), with\n"
+        "  H (v_after - v) = J^T impulses,   J v_after = -restitution J v\n"
+        "(restitution in [0, 1]; 0: inelastic, the contacts stop). impulses [N s, N m s]: as lam of\n"
+        "constrained_forward_dynamics (per contact, its reference axes). The kinetic energy does not grow.\n"
+        "NaN for a state where J H^-1 J^T (+ damping) is singular.");
+
+  m.def("contact_inverse_dynamics",
+        [](PyContacts& pc, ArrayLike q, ArrayLike v, ArrayLike a, int threads, bool check) {
+          if (!pc.model->floating)
+            throw nb::value_error(("contact_inverse_dynamics: the model '" + pc.model->name +
+                                   "' has a fixed base; whole-body inverse dynamics with contacts needs a floating "
+                                   "base (load_urdf(..., floating=True), hoap3_floating())").c_str());
+          Args args(*pc.model, "contact_inverse_dynamics");
+          ContactCall c;
+          c.op = ContactOp::InverseDynamics;
+          c.in[0] = args.q(q.h);
+          c.in[1] = args.v(v.h, "v");
+          c.in[2] = args.v(a.h, "a");
+          const std::size_t nv = std::size_t(pc.model->nv), rows = std::size_t(pc.impl->rows);
+          Output tau(args, {nv}), lam(args, {rows}), ok(args, {}, NPY_BOOL);
+          c.out[0] = tau.out(), c.out[1] = lam.out();
+          c.flag = ok.flags();
+          execute(*pc.impl, c, args, threads, check);
+          BoolOrArray flag{args.batched() ? ok.obj : nb::bool_(ok.flags()[0])};
+          return std::make_tuple(tau.array(), lam.array(), flag);
+        },
+        "contacts"_a, "q"_a, "v"_a, "a"_a, nb::kw_only(), SPATIAL_PY_KW,
+        "Whole-body inverse dynamics of a floating base with contacts: (tau, lam, ok), tau (nv,), lam (m,), ok a\n"
+        "bool (or (B, nv), (B, m), (B,)). rnea(q, v, a) = tau + J^T lam, with tau[:6] = 0 when ok: the contacts\n"
+        "supply the whole root wrench. The split between contacts: each 6D contact's wrench a non-negative\n"
+        "combination of forces at its sole's corners inside the friction pyramid (Contact6D's sole and friction), a\n"
+        "3D contact's inside the pyramid about the world's +z; among those, the least sum of squared generator\n"
+        "weights. ok is False when no such split exists (the ZMP outside the support polygon, a pulling contact, too\n"
+        "much friction needed): tau[:6] is then the part of the root wrench the contacts leave missing.\n"
+        "lam: per contact, its reference axes, what the ground applies to the robot. Floating base only.");
+
+  m.def("contact_jacobian",
+        [](PyContacts& pc, ArrayLike q, int threads, bool check) {
+          Args args(*pc.model, "contact_jacobian");
+          ContactCall c;
+          c.op = ContactOp::Jacobian;
+          c.in[0] = args.q(q.h);
+          Output J(args, {std::size_t(pc.impl->rows), std::size_t(pc.model->nv)});
+          c.out[0] = J.out();
+          execute(*pc.impl, c, args, threads, check);
+          return J.array();
+        },
+        "contacts"_a, "q"_a, nb::kw_only(), SPATIAL_PY_KW,
+        "The contacts' constraint Jacobian J (m, nv) (or (B, m, nv)): per contact, 6D: the rows of\n"
+        "frame_jacobian(reference='local') (linear first, the frame's axes); 3D: the linear rows of\n"
+        "frame_jacobian(reference='local_world_aligned') (world axes), whatever the contact's reference.");
+
+  m.def("contact_wrench",
+        [](PyContacts& pc, ArrayLike q, ArrayLike lam, int threads, bool check) {
+          Args args(*pc.model, "contact_wrench");
+          ContactCall c;
+          c.op = ContactOp::Wrench;
+          c.in[0] = args.q(q.h);
+          c.in[1] = lambda_arg(args, pc, lam.h, "lam");
+          Output w(args, {6});
+          c.out[0] = w.out();
+          execute(*pc.impl, c, args, threads, check);
+          return w.array();
+        },
+        "contacts"_a, "q"_a, "lam"_a, nb::kw_only(), SPATIAL_PY_KW,
+        "The sum of the contact forces lam (m,) at q (as returned by constrained_forward_dynamics or\n"
+        "contact_inverse_dynamics): [fx fy fz nx ny nz] (6,) (or (B, 6)), world axes, moment about the world origin\n"
+        "(fixed base: the base frame).");
+
+  m.def("center_of_pressure",
+        [](PyContacts& pc, ArrayLike q, ArrayLike lam, double height, int threads, bool check) {
+          Args args(*pc.model, "center_of_pressure");
+          ContactCall c;
+          c.op = ContactOp::CenterOfPressure;
+          c.height = height;
+          c.in[0] = args.q(q.h);
+          c.in[1] = lambda_arg(args, pc, lam.h, "lam");
+          Output p(args, {3});
+          c.out[0] = p.out();
+          execute(*pc.impl, c, args, threads, check);
+          return p.array();
+        },
+        "contacts"_a, "q"_a, "lam"_a, "height"_a = 0.0, nb::kw_only(), SPATIAL_PY_KW,
+        "The centre of pressure (3,) (or (B, 3)) of the contact forces lam (m,) at q on the plane z = height (world;\n"
+        "fixed base: base frame): the point where the moment of contact_wrench has no horizontal component,\n"
+        "((h fx - ny) / fz, (nx + h fy) / fz, h). NaN when fz <= 0 (nothing pushes the robot up).");
+
+  m.def("multibody_zmp",
+        [](std::shared_ptr<ModelBase> model, ArrayLike q, ArrayLike v, ArrayLike a, double height, int threads,
+           bool check) {
+          Args args(*model, "multibody_zmp");
+          ContactCall c;
+          c.op = ContactOp::MultibodyZmp;
+          c.height = height;
+          c.in[0] = args.q(q.h);
+          c.in[1] = args.v(v.h, "v");
+          c.in[2] = args.v(a.h, "a");
+          Output p(args, {3});
+          c.out[0] = p.out();
+          std::unique_ptr<ContactsBase> engine = model->make_contacts({}, 0.0);  // the model's data, no contacts
+          execute(*engine, c, args, threads, check);
+          return p.array();
+        },
+        "model"_a, "q"_a, "v"_a, "a"_a, "height"_a = 0.0, nb::kw_only(), SPATIAL_PY_KW,
+        "The zero-moment point (3,) (or (B, 3)) of the motion (q, v, a) on the plane z = height: where the ground\n"
+        "wrench the motion needs (RNEA's root wrench, gravity included) has no horizontal moment. Floating base:\n"
+        "world coordinates; fixed base: the base frame (the base's reaction on the moving bodies). NaN when that\n"
+        "wrench does not push up. With contacts as the only external forces it equals center_of_pressure.");
+#undef SPATIAL_PY_KW
+}
+
+}  // namespace spatial::python
