@@ -18,7 +18,8 @@ v = [linear, angular velocity of the root in root coordinates, joint rates].
 from __future__ import annotations
 
 import os as _os
-from typing import Mapping, Optional, Sequence
+from dataclasses import dataclass, field
+from typing import List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as _np
 
@@ -61,7 +62,8 @@ __all__ = [
     "frame_placement", "frame_velocity", "gravity", "hoap3_double_pendulum", "hoap3_floating", "hoap3_stance_left",
     "hoap3_stance_right", "hoap3_torso", "integrate", "inverse_inertia", "kinetic_energy", "load_urdf",
     "load_urdf_string", "neutral", "normalize", "potential_energy", "random_configuration", "rnea",
-    "rnea_derivatives", "urdf_path",
+    "rnea_derivatives", "urdf_path", "IkTask", "IkStatus", "IkSolver", "ik_position", "ik_orientation", "ik_pose",
+    "ik_center_of_mass",
 ]
 
 _URDF_DIR = _os.path.join(_os.path.dirname(__file__), "urdf")
@@ -132,3 +134,121 @@ def random_configuration(model: Model, seed: Optional[int] = None, *, batch: Opt
         q = joints
     q = _np.ascontiguousarray(q)
     return q[0] if batch is None else q
+
+
+# ---- inverse kinematics -------------------------------------------------------------------------------------------
+
+@dataclass
+class IkTask:
+    """One task of an IkSolver (build it with ik_position, ik_orientation, ik_pose or ik_center_of_mass).
+
+    Errors are target minus current, in world coordinates (fixed base: base coordinates): position p* - p (3 rows),
+    orientation log(R* R^T) (3 rows, a rotation vector in world axes), pose [p* - p; log(R* R^T)] (6 rows, linear
+    first), centre of mass c* - c (3 rows; fixed base: of the moving bodies). `weight` multiplies every row, `axes`
+    each row (e.g. axes=(0, 0, 1) on a position task constrains the height only)."""
+    kind: str
+    frame: Union[str, int] = -1
+    position: _np.ndarray = field(default_factory=lambda: _np.zeros(3))
+    rotation: _np.ndarray = field(default_factory=lambda: _np.eye(3))
+    weight: float = 1.0
+    axes: _np.ndarray = field(default_factory=lambda: _np.ones(6))
+
+
+def _axes(axes, rows):
+    a = _np.ones(6)
+    if axes is not None:
+        given = _np.asarray(axes, dtype=float).ravel()
+        if given.size != rows:
+            raise ValueError(f"ik task: 'axes' has {given.size} entries, the task has {rows} rows")
+        a[:rows] = given
+    return a
+
+
+def ik_position(frame: Union[str, int], position, weight: float = 1.0, axes=None) -> IkTask:
+    """Frame origin at `position` (3,), world coordinates."""
+    return IkTask("position", frame, _np.asarray(position, float), _np.eye(3), float(weight), _axes(axes, 3))
+
+
+def ik_orientation(frame: Union[str, int], rotation, weight: float = 1.0, axes=None) -> IkTask:
+    """Frame axes at `rotation` (3, 3): frame axes -> world axes."""
+    return IkTask("orientation", frame, _np.zeros(3), _np.asarray(rotation, float), float(weight), _axes(axes, 3))
+
+
+def ik_pose(frame: Union[str, int], position, rotation, weight: float = 1.0, axes=None) -> IkTask:
+    """Frame at `position` (3,) with axes `rotation` (3, 3); 6 rows, linear first."""
+    return IkTask("pose", frame, _np.asarray(position, float), _np.asarray(rotation, float), float(weight),
+                  _axes(axes, 6))
+
+
+def ik_center_of_mass(position, weight: float = 1.0, axes=None) -> IkTask:
+    """Centre of mass at `position` (3,), world coordinates (fixed base: of the moving bodies, base coordinates)."""
+    return IkTask("center_of_mass", -1, _np.asarray(position, float), _np.eye(3), float(weight), _axes(axes, 3))
+
+
+@dataclass
+class IkStatus:
+    """How a solve ended: converged (residual <= tolerance), reason ('converged', 'max_iterations', 'stalled',
+    'non_finite'), iterations (linear solves), accepted (steps taken), residual (the weighted error's norm at the
+    returned q), damping (the final Levenberg-Marquardt damping)."""
+    converged: bool
+    reason: str
+    iterations: int
+    accepted: int
+    residual: float
+    damping: float
+
+
+class IkSolver:
+    """Inverse kinematics: several weighted tasks at once, damped least squares with adaptive
+    (Levenberg-Marquardt) damping, on the configuration manifold for a floating base, joint limits kept by
+    projection. The C++ solver (ik.hpp) allocates its workspace here, once.
+
+    lower, upper: joint limits (one per joint, not the free-flyer); default the model's (model.lower/upper; pass
+    arrays of -inf/inf for none). active: velocity coordinates that may move (default all). Other options as in
+    ik.hpp's IkOptions.
+    """
+
+    def __init__(self, model: Model, tasks: Sequence[IkTask], *, lower=None, upper=None,
+                 active: Optional[Sequence[int]] = None, max_iterations: int = 200, tolerance: float = 1e-12,
+                 step_tolerance: float = 1e-15, damping: float = 1e-6, adaptive: bool = True):
+        self.model = model
+        self._tasks = [self._resolve(t) for t in tasks]
+        self._solver = _spatial._IkSolver(
+            model, self._tasks, max_iterations, tolerance, step_tolerance, damping, adaptive,
+            model.lower if lower is None else lower, model.upper if upper is None else upper,
+            list(active) if active is not None else [])
+
+    def _resolve(self, t: IkTask) -> IkTask:
+        if t.kind != "center_of_mass" and isinstance(t.frame, str):
+            t = IkTask(t.kind, self.model.frame_index(t.frame), t.position, t.rotation, t.weight, t.axes)
+        return t
+
+    @property
+    def rows(self) -> int:
+        """Rows of the stacked error."""
+        return self._solver.rows
+
+    @property
+    def tasks(self) -> List[IkTask]:
+        return list(self._tasks)
+
+    def set_task(self, i: int, task: IkTask) -> None:
+        """Replaces task i's target, weight and axes (its kind and frame are fixed at construction)."""
+        t = self._resolve(task)
+        if t.kind != self._tasks[i].kind or t.frame != self._tasks[i].frame:
+            raise ValueError(f"IkSolver.set_task: task {i} is a {self._tasks[i].kind} task on frame "
+                             f"{self._tasks[i].frame}; only its target, weight and axes can change")
+        self._solver.set_task(i, t)
+        self._tasks[i] = t
+
+    def residual(self, q) -> Tuple[float, _np.ndarray]:
+        """(||r||, r) at q: the weighted stacked error, tasks in order."""
+        return self._solver.residual(q)
+
+    def solve(self, q0, *, threads: int = 1):
+        """From the start q0 (nq,), returns (q, IkStatus); from starts (B, nq), (Q (B, nq), [IkStatus] * B), the
+        starts solved independently (on `threads` threads: 0 = all cores). q is the best configuration found (inside
+        the limits), also when not converged."""
+        q, status = self._solver.solve(q0, threads)
+        st = [IkStatus(*s) for s in status]
+        return (q, st) if q.ndim == 2 else (q, st[0])

@@ -77,6 +77,44 @@ struct Workspace {
   virtual ~Workspace() = default;
 };
 
+/// An inverse-kinematics task as given from Python (ik.hpp's IkTask; rotation row-major).
+struct IkTaskSpec {
+  IkTaskKind kind = IkTaskKind::Pose;
+  int frame = -1;
+  double position[3] = {0, 0, 0};
+  double rotation[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  double weight = 1;
+  double axes[6] = {1, 1, 1, 1, 1, 1};
+};
+/// IkOptions as given from Python (limits: one per joint, empty: none).
+struct IkOptionsSpec {
+  int max_iterations = 200;
+  double tolerance = 1e-12, step_tolerance = 1e-15, damping = 1e-6;
+  bool adaptive = true;
+  std::vector<double> lower, upper;
+  std::vector<int> active;
+};
+/// IkStatus.
+struct IkResult {
+  bool converged = false;
+  IkReason reason = IkReason::MaxIterations;
+  int iterations = 0, accepted = 0;
+  double residual = 0, damping = 0;
+};
+/// An IkSolver of one model kind, behind a model-independent interface.
+class IkBase {
+ public:
+  virtual ~IkBase() = default;
+  virtual int rows() const = 0;
+  virtual int tasks() const = 0;
+  /// Solves from each of `count` starts (q0 + b * nq), writing q (q + b * nq) and the status; threads > 1 runs
+  /// copies of the solver on more threads.
+  virtual void solve(const double* q0, std::ptrdiff_t q0_stride, double* q, IkResult* status, std::ptrdiff_t count,
+                     int threads) = 0;
+  virtual void set_task(int i, const IkTaskSpec& t) = 0;
+  virtual double residual(const double* q, double* r) = 0;
+};
+
 /// What Python's `Model` holds: the model's description and its engine.
 class ModelBase {
  public:
@@ -95,6 +133,8 @@ class ModelBase {
   /// each with a workspace of its own; every state is computed by the same code whatever the split.
   virtual void run(const Call& call, Workspace& ws, int threads) const = 0;
   virtual void neutral(double* q) const = 0;
+  /// An inverse-kinematics solver on this model (throws std::invalid_argument for bad frames, limits, active).
+  virtual std::unique_ptr<IkBase> make_ik(const std::vector<IkTaskSpec>& tasks, const IkOptionsSpec& opt) const = 0;
   /// A contact set on this model (contacts.hpp, contacts_impl.hpp).
   virtual std::unique_ptr<ContactsBase> make_contacts(const std::vector<ContactSpec>& specs, double damping) const = 0;
 

@@ -18,6 +18,88 @@ struct IsFloating : std::false_type {};
 template <class S, class T>
 struct IsFloating<FloatingModel<S, T>> : std::true_type {};
 
+/// ik.hpp's IkSolver for a model of type M; the model is the engine's (it outlives the solver: Python's IkSolver
+/// holds the model).
+template <class M>
+class IkEngine final : public IkBase {
+ public:
+  IkEngine(const M& model, const std::vector<IkTaskSpec>& tasks, const IkOptionsSpec& o)
+      : solver_(model, convert(tasks), options(o)), nq_(detail::ModelTraits<M>::nq(model)) {}
+
+  int rows() const override { return solver_.rows(); }
+  int tasks() const override { return solver_.tasks(); }
+  void solve(const double* q0, std::ptrdiff_t q0_stride, double* q, IkResult* status, std::ptrdiff_t count,
+             int threads) override {
+    const std::ptrdiff_t t = std::max<std::ptrdiff_t>(1, std::min<std::ptrdiff_t>(threads, count));
+    if (t == 1) return range(solver_, q0, q0_stride, q, status, 0, count);
+    std::vector<std::thread> pool;
+    const std::ptrdiff_t chunk = count / t, extra = count % t;
+    std::ptrdiff_t begin = chunk + (extra > 0 ? 1 : 0);
+    for (std::ptrdiff_t k = 1; k < t; ++k) {
+      const std::ptrdiff_t end = begin + chunk + (k < extra ? 1 : 0);
+      pool.emplace_back([=] {
+        IkSolver<M> own = solver_;
+        range(own, q0, q0_stride, q, status, begin, end);
+      });
+      begin = end;
+    }
+    range(solver_, q0, q0_stride, q, status, 0, chunk + (extra > 0 ? 1 : 0));
+    for (auto& th : pool) th.join();
+  }
+  void set_task(int i, const IkTaskSpec& t) override {
+    const IkTask<double> k = convert(t);
+    solver_.set_target(i, k.position, k.rotation);
+    solver_.set_weight(i, k.weight);
+    solver_.set_axes(i, k.axes);
+  }
+  double residual(const double* q, double* r) override {
+    const double res = solver_.residual(Eigen::Map<const Eigen::VectorXd>(q, nq_));
+    Eigen::Map<Eigen::VectorXd>(r, solver_.rows()) = solver_.residual_vector();
+    return res;
+  }
+
+ private:
+  /// Not inlined, for the same reason as Engine::range: one copy of the per-start code for every thread.
+  __attribute__((noinline)) void range(IkSolver<M>& s, const double* q0, std::ptrdiff_t q0_stride, double* q,
+                                       IkResult* status, std::ptrdiff_t begin, std::ptrdiff_t end) const {
+    for (std::ptrdiff_t b = begin; b < end; ++b) {
+      Eigen::Map<Eigen::VectorXd> qb(q + b * nq_, nq_);
+      qb = Eigen::Map<const Eigen::VectorXd>(q0 + b * q0_stride, nq_);
+      const IkStatus<double> st = s.solve(qb);
+      status[b] = {st.converged, st.reason, st.iterations, st.accepted, st.residual, st.damping};
+    }
+  }
+  static IkTask<double> convert(const IkTaskSpec& t) {
+    IkTask<double> k;
+    k.kind = t.kind;
+    k.frame = t.frame;
+    k.position = Eigen::Vector3d(t.position[0], t.position[1], t.position[2]);
+    k.rotation = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(t.rotation);
+    k.weight = t.weight;
+    k.axes = Eigen::Map<const Vector6<double>>(t.axes);
+    return k;
+  }
+  static std::vector<IkTask<double>> convert(const std::vector<IkTaskSpec>& tasks) {
+    std::vector<IkTask<double>> out;
+    for (const auto& t : tasks) out.push_back(convert(t));
+    return out;
+  }
+  static IkOptions<double> options(const IkOptionsSpec& o) {
+    IkOptions<double> opt;
+    opt.max_iterations = o.max_iterations;
+    opt.tolerance = o.tolerance;
+    opt.step_tolerance = o.step_tolerance;
+    opt.damping = o.damping;
+    opt.adaptive = o.adaptive;
+    opt.lower = Eigen::Map<const Eigen::VectorXd>(o.lower.data(), Eigen::Index(o.lower.size()));
+    opt.upper = Eigen::Map<const Eigen::VectorXd>(o.upper.data(), Eigen::Index(o.upper.size()));
+    opt.active = o.active;
+    return opt;
+  }
+  IkSolver<M> solver_;
+  int nq_;
+};
+
 template <class M>
 struct TreeOf;
 template <class S, class T>
@@ -89,6 +171,9 @@ class Engine final : public ModelBase {
     if constexpr (kFloating) out[6] = 1.0;
   }
 
+  std::unique_ptr<IkBase> make_ik(const std::vector<IkTaskSpec>& tasks, const IkOptionsSpec& opt) const override {
+    return std::make_unique<IkEngine<M>>(model_, tasks, opt);
+  }
   std::unique_ptr<ContactsBase> make_contacts(const std::vector<ContactSpec>& specs, double damping) const override {
     return make_contacts_for<M>(model_, specs, damping);
   }

@@ -10,6 +10,8 @@
 namespace spatial::python {
 /// bind_contacts.cpp: contact dynamics, impulses, whole-body inverse dynamics with contacts, ZMP and CoP.
 void bind_contacts(nb::module_& m);
+/// bind_ik.cpp: inverse kinematics.
+void bind_ik(nb::module_& m);
 }  // namespace spatial::python
 
 using namespace spatial::python;
@@ -376,5 +378,6 @@ NB_MODULE(_spatial, m) {
         "(dqdd_dq, dqdd_dv, dqdd_dtau = H^-1), each (nv, nv).");
 #undef SPATIAL_PY_KW
 
+  spatial::python::bind_ik(m);
   spatial::python::bind_contacts(m);
 }
