@@ -24,6 +24,10 @@ from typing import List, Mapping, Optional, Sequence, Tuple, Union
 import numpy as _np
 
 from ._spatial import (  # noqa: F401  (re-exported)
+    Contact,
+    Contact3D,
+    Contact6D,
+    Contacts,
     Data,
     Model,
     ModelError,
@@ -33,7 +37,12 @@ from ._spatial import (  # noqa: F401  (re-exported)
     center_of_mass,
     centroidal_momentum,
     centroidal_momentum_matrix,
+    center_of_pressure,
     com_jacobian,
+    constrained_forward_dynamics,
+    contact_inverse_dynamics,
+    contact_jacobian,
+    contact_wrench,
     crba,
     difference,
     forward_dynamics,
@@ -46,9 +55,11 @@ from ._spatial import (  # noqa: F401  (re-exported)
     hoap3_stance_left,
     hoap3_stance_right,
     hoap3_torso,
+    impulse_dynamics,
     integrate,
     inverse_inertia,
     kinetic_energy,
+    multibody_zmp,
     normalize,
     potential_energy,
     rnea,
@@ -63,7 +74,9 @@ __all__ = [
     "hoap3_stance_right", "hoap3_torso", "integrate", "inverse_inertia", "kinetic_energy", "load_urdf",
     "load_urdf_string", "neutral", "normalize", "potential_energy", "random_configuration", "rnea",
     "rnea_derivatives", "urdf_path", "IkTask", "IkStatus", "IkSolver", "ik_position", "ik_orientation", "ik_pose",
-    "ik_center_of_mass",
+    "ik_center_of_mass", "Contact", "Contact3D", "Contact6D", "Contacts", "center_of_pressure",
+    "constrained_forward_dynamics", "contact_inverse_dynamics", "contact_jacobian", "contact_wrench",
+    "impulse_dynamics", "multibody_zmp",
 ]
 
 _URDF_DIR = _os.path.join(_os.path.dirname(__file__), "urdf")

@@ -1,48 +1,31 @@
 /// \file bind_contacts.cpp
 /// Contact dynamics from Python: the contact descriptions `Contact6D` / `Contact3D`, the contact set `Contacts`, and
 /// `constrained_forward_dynamics`, `impulse_dynamics`, `contact_inverse_dynamics`, `contact_jacobian`,
-/// `contact_wrench`, `center_of_pressure`, `multibody_zmp`. Same conventions as module.cpp: one state ((n,) arrays) or
-/// a batch ((B, n)), fresh float64 outputs, batches without the GIL on `threads` threads, `check=True` refuses
-/// non-finite inputs, errors name the function and the argument.
+/// `contact_wrench`, `center_of_pressure`, `multibody_zmp`. Same conventions as module.cpp (bind_common.hpp): one
+/// state ((n,) arrays) or a batch ((B, n)), fresh outputs, batches without the GIL on `threads` threads,
+/// `check=True` refuses non-finite inputs, errors name the function and the argument.
 
-#include "engine.hpp"
-
-#include <nanobind/nanobind.h>
-#include <nanobind/stl/shared_ptr.h>
-#include <nanobind/stl/string.h>
-#include <nanobind/stl/tuple.h>
-#include <nanobind/stl/vector.h>
-
-#define NPY_NO_DEPRECATED_API NPY_1_7_API_VERSION
-#include <numpy/arrayobject.h>
-
-#include <algorithm>
-#include <cmath>
-#include <initializer_list>
-#include <sstream>
-#include <thread>
-
-namespace nb = nanobind;
-using namespace nb::literals;
+#include "bind_common.hpp"
 
 namespace spatial::python::contacts_py {
 
-// ---- argument and result types (copies of module.cpp's: to be shared through a header) -------------------------
-
 /// Argument and result types that only name themselves in the generated stubs.
-struct ArrayLike {
-  nb::handle h;
-};
-struct NDArray {
-  nb::object o;
-};
-struct FrameArg {
-  nb::handle h;
-};
 struct SoleArg {
   nb::handle h;
 };
+struct ContactsArg {
+  nb::handle h;
+};
 struct BoolOrArray {
+  nb::object o;
+};
+struct FrameOut {
+  nb::object o;
+};
+struct SoleOut {
+  nb::object o;
+};
+struct ContactListOut {
   nb::object o;
 };
 
@@ -51,184 +34,54 @@ struct BoolOrArray {
 namespace nanobind::detail {
 namespace cp = spatial::python::contacts_py;
 template <>
-struct type_caster<cp::ArrayLike> {
-  NB_TYPE_CASTER(cp::ArrayLike, const_name("numpy.typing.ArrayLike"))
-  bool from_python(handle src, uint8_t, cleanup_list*) noexcept {
-    value.h = src;
-    return true;
-  }
-};
-template <>
-struct type_caster<cp::NDArray> {
-  NB_TYPE_CASTER(cp::NDArray, const_name("numpy.typing.NDArray[numpy.float64]"))
-  static handle from_cpp(const cp::NDArray& v, rv_policy, cleanup_list*) noexcept { return v.o.inc_ref(); }
-};
-template <>
-struct type_caster<cp::BoolOrArray> {
-  NB_TYPE_CASTER(cp::BoolOrArray, const_name("bool | numpy.typing.NDArray[numpy.bool_]"))
-  static handle from_cpp(const cp::BoolOrArray& v, rv_policy, cleanup_list*) noexcept { return v.o.inc_ref(); }
-};
-template <>
-struct type_caster<cp::FrameArg> {
-  NB_TYPE_CASTER(cp::FrameArg, const_name("str | int"))
-  bool from_python(handle src, uint8_t, cleanup_list*) noexcept {
-    value.h = src;
-    return true;
-  }
-};
-template <>
 struct type_caster<cp::SoleArg> {
-  NB_TYPE_CASTER(cp::SoleArg, const_name("tuple[float, float, float, float] | None"))
+  NB_TYPE_CASTER(cp::SoleArg, const_name("tuple[float, float, float, float]"))
   bool from_python(handle src, uint8_t, cleanup_list*) noexcept {
     value.h = src;
     return true;
   }
 };
+template <>
+struct type_caster<cp::ContactsArg> {
+  NB_TYPE_CASTER(cp::ContactsArg, const_name("Contact | collections.abc.Sequence[Contact]"))
+  bool from_python(handle src, uint8_t, cleanup_list*) noexcept {
+    value.h = src;
+    return true;
+  }
+};
+#define SPATIAL_PY_TYPED_RESULT(T, name)                                                            \
+  template <>                                                                                       \
+  struct type_caster<T> {                                                                           \
+    NB_TYPE_CASTER(T, const_name(name))                                                             \
+    static handle from_cpp(const T& v, rv_policy, cleanup_list*) noexcept { return v.o.inc_ref(); } \
+  };
+SPATIAL_PY_TYPED_RESULT(cp::BoolOrArray, "bool | numpy.typing.NDArray[numpy.bool_]")
+SPATIAL_PY_TYPED_RESULT(cp::FrameOut, "str | int")
+SPATIAL_PY_TYPED_RESULT(cp::SoleOut, "tuple[float, float, float, float] | None")
+SPATIAL_PY_TYPED_RESULT(cp::ContactListOut, "list[Contact]")
+#undef SPATIAL_PY_TYPED_RESULT
 }  // namespace nanobind::detail
 
 namespace spatial::python {
 namespace contacts_py {
 namespace {
 
-/// An input array: C-contiguous, aligned float64 (the argument itself when it is one, else a converted copy).
-struct Array {
-  nb::object obj;
-  PyArrayObject* arr() const { return reinterpret_cast<PyArrayObject*>(obj.ptr()); }
-  int ndim() const { return PyArray_NDIM(arr()); }
-  std::size_t shape(int k) const { return std::size_t(PyArray_DIM(arr(), k)); }
-  std::size_t size() const { return std::size_t(PyArray_SIZE(arr())); }
-  const double* data() const { return static_cast<const double*>(PyArray_DATA(arr())); }
-};
+StridedIn strided(const In& in) { return {in.p, in.stride}; }
+StridedOut strided(const Out& out) { return {out.p, out.stride}; }
 
-std::string shape_str(const Array& a) {
-  std::ostringstream s;
-  s << '(';
-  for (int k = 0; k < a.ndim(); ++k) s << (k ? ", " : "") << a.shape(k);
-  s << (a.ndim() == 1 ? ",)" : ")");
-  return s.str();
-}
-
-/// module.cpp's to_array: no copy for a C-contiguous float64 array; NumPy's safe casting for the rest (TypeError
-/// naming the argument for complex numbers, strings, objects).
-Array to_array(nb::handle h, const char* fn, const char* arg) {
-  PyObject* o = h.ptr();
-  if (PyArray_Check(o)) {
-    auto* a = reinterpret_cast<PyArrayObject*>(o);
-    if (PyArray_TYPE(a) == NPY_DOUBLE && PyArray_IS_C_CONTIGUOUS(a) && PyArray_ISALIGNED(a) && PyArray_ISNOTSWAPPED(a))
-      return {nb::borrow(h)};
-  }
-  PyObject* c = PyArray_FromAny(o, PyArray_DescrFromType(NPY_DOUBLE), 0, 0,
-                                NPY_ARRAY_C_CONTIGUOUS | NPY_ARRAY_ALIGNED, nullptr);
-  if (!c) {
-    nb::python_error e;
-    throw nb::type_error((std::string(fn) + ": argument '" + arg +
-                          "' must be an array of real numbers, convertible to float64 (" + e.what() + ")").c_str());
-  }
-  return {nb::steal(c)};
-}
-
-/// The arguments of one call (module.cpp's Args, with the sizes named for contacts too).
-class Args {
- public:
-  Args(const ModelBase& m, const char* fn) : m_(m), fn_(fn) {}
-
-  /// A per-state vector of `n` entries ((n,) or (B, n)); `what` names the size in errors.
-  StridedIn vector(nb::handle h, const char* arg, int n, const char* what) {
-    Array a = to_array(h, fn_, arg);
-    const bool ok = (a.ndim() == 1 && a.shape(0) == std::size_t(n)) || (a.ndim() == 2 && a.shape(1) == std::size_t(n));
-    if (!ok) {
-      std::ostringstream s;
-      s << fn_ << ": argument '" << arg << "' has shape " << shape_str(a) << "; " << what << " = " << n
-        << ", so expected (" << n << ",) or (B, " << n << ")";
-      throw nb::value_error(s.str().c_str());
-    }
-    const bool batch = a.ndim() == 2;
-    return keep(std::move(a), arg, batch, n);
-  }
-  StridedIn q(nb::handle h) { return vector(h, "q", m_.nq, model_size("nq").c_str()); }
-  StridedIn v(nb::handle h, const char* arg) { return vector(h, arg, m_.nv, model_size("nv").c_str()); }
-
-  bool batched() const { return batch_ >= 0; }
-  std::ptrdiff_t count() const { return batch_ >= 0 ? batch_ : 1; }
-
-  void check_finite() const {
-    for (std::size_t j = 0; j < nkept_; ++j) {
-      const Kept& k = kept_[j];
-      const double* p = k.array.data();
-      const std::size_t size = k.array.size();
-      for (std::size_t i = 0; i < size; ++i) {
-        if (std::isfinite(p[i])) continue;
-        std::ostringstream s;
-        s << fn_ << ": argument '" << k.name << "' has a non-finite entry (" << p[i] << ")";
-        if (k.batched) s << " in state " << i / std::size_t(k.width) << ",";
-        s << " at index " << i % std::size_t(k.width);
-        throw nb::value_error(s.str().c_str());
-      }
-    }
-  }
-
- private:
-  struct Kept {
-    Array array;
-    const char* name = nullptr;
-    bool batched = false;
-    int width = 1;
-  };
-  std::string model_size(const char* what) const { return std::string("the model '") + m_.name + "' has " + what; }
-  StridedIn keep(Array a, const char* arg, bool batched, int width) {
-    if (batched) {
-      const auto b = static_cast<std::ptrdiff_t>(a.shape(0));
-      if (batch_ >= 0 && b != batch_) {
-        std::ostringstream s;
-        s << fn_ << ": argument '" << arg << "' has " << b << " states, an earlier argument " << batch_;
-        throw nb::value_error(s.str().c_str());
-      }
-      batch_ = b;
-    }
-    StridedIn in{a.data(), batched ? std::ptrdiff_t(width) : 0};
-    kept_[nkept_++] = {std::move(a), arg, batched, width};
-    return in;
-  }
-  const ModelBase& m_;
-  const char* fn_;
-  std::ptrdiff_t batch_ = -1;
-  Kept kept_[4];
-  std::size_t nkept_ = 0;
-};
-
-/// A fresh NumPy array of shape (B, dims...) or (dims...), float64 (or bool).
-struct Output {
-  Output(const Args& args, std::initializer_list<std::size_t> dims, int type = NPY_DOUBLE) {
-    npy_intp shape[4];
-    int nd = 0;
-    if (args.batched()) shape[nd++] = npy_intp(args.count());
-    per_state = 1;
-    for (std::size_t d : dims) shape[nd++] = npy_intp(d), per_state *= std::ptrdiff_t(d);
-    PyObject* a = PyArray_SimpleNew(nd, shape, type);
+/// A fresh NumPy bool array of shape (B,) or () (contact_inverse_dynamics' ok).
+struct Flags {
+  explicit Flags(const Args& args) {
+    npy_intp shape[1] = {npy_intp(args.count())};
+    PyObject* a = PyArray_SimpleNew(args.batched() ? 1 : 0, shape, NPY_BOOL);
     if (!a) throw nb::python_error();
     obj = nb::steal(a);
-    data = PyArray_DATA(reinterpret_cast<PyArrayObject*>(a));
+    data = static_cast<bool*>(PyArray_DATA(reinterpret_cast<PyArrayObject*>(a)));
   }
-  StridedOut out() const { return {static_cast<double*>(data), per_state}; }
-  bool* flags() const { return static_cast<bool*>(data); }
-  NDArray array() const { return {obj}; }
-
+  BoolOrArray result(const Args& args) const { return {args.batched() ? obj : nb::bool_(data[0])}; }
   nb::object obj;
-  void* data = nullptr;
-  std::ptrdiff_t per_state = 1;
+  bool* data = nullptr;
 };
-
-int thread_count(int threads) {
-  if (threads < 0) throw nb::value_error("threads must be >= 0 (0: all cores)");
-  if (threads == 0) return std::max(1, int(std::thread::hardware_concurrency()));
-  return threads;
-}
-
-int index_of(const std::vector<std::string>& names, const std::string& name) {
-  for (std::size_t k = 0; k < names.size(); ++k)
-    if (names[k] == name) return int(k);
-  return -1;
-}
 
 // ---- contact descriptions and contact sets ---------------------------------------------------------------------
 
@@ -244,7 +97,7 @@ struct Contact {
 struct Contact6D : Contact {};
 struct Contact3D : Contact {};
 
-ReferenceFrame reference_of(const std::string& r, const char* fn) {
+ReferenceFrame contact_reference(const std::string& r, const char* fn) {
   if (r == "local") return ReferenceFrame::Local;
   if (r == "local_world_aligned") return ReferenceFrame::LocalWorldAligned;
   if (r == "world") return ReferenceFrame::World;  // refused by ContactData (ModelError naming the contact)
@@ -263,7 +116,7 @@ void init_contact(Contact& c, const char* fn, bool six_d, nb::handle frame, cons
   if (reference == "world")
     throw nb::value_error((std::string(fn) + ": reference 'world' is not offered (the moment would be about the "
                            "world origin): use 'local' or 'local_world_aligned'").c_str());
-  reference_of(reference, fn);
+  contact_reference(reference, fn);
   const auto check = [fn](double x, const char* what) {
     if (!std::isfinite(x) || x < 0)
       throw nb::value_error((std::string(fn) + ": '" + what + "' must be finite and >= 0, not " +
@@ -351,7 +204,7 @@ PyContacts make_contact_set(std::shared_ptr<ModelBase> model, nb::handle list, d
       s.frame = nb::cast<int>(c.frame);  // out of range: ModelError from ContactData
     }
     s.six_d = c.six_d;
-    s.reference = reference_of(c.reference, fn);
+    s.reference = contact_reference(c.reference, fn);
     s.kp = c.kp, s.kd = c.kd, s.friction = c.friction;
     s.sole_x_min = c.sole[0], s.sole_x_max = c.sole[1], s.sole_y_min = c.sole[2], s.sole_y_max = c.sole[3];
     specs.push_back(s);
@@ -365,7 +218,7 @@ PyContacts make_contact_set(std::shared_ptr<ModelBase> model, nb::handle list, d
 }
 
 /// Runs a contact call, without the GIL for batches.
-void execute(ContactsBase& impl, ContactCall& call, const Args& args, int threads, bool check) {
+void run_contacts(ContactsBase& impl, ContactCall& call, const Args& args, int threads, bool check) {
   if (check) args.check_finite();
   call.count = args.count();
   const int t = thread_count(threads);
@@ -377,8 +230,21 @@ void execute(ContactsBase& impl, ContactCall& call, const Args& args, int thread
   }
 }
 
-StridedIn lambda_arg(Args& args, const PyContacts& pc, nb::handle h, const char* arg) {
-  return args.vector(h, arg, pc.impl->rows, "the contact set's rows (contacts.rows)");
+StridedIn q_arg(Args& args, nb::handle h) { return strided(args.vector(h, "q", args.model().nq, "nq")); }
+StridedIn v_arg(Args& args, nb::handle h, const char* arg) {
+  return strided(args.vector(h, arg, args.model().nv, "nv"));
+}
+/// Contact forces (m,) or (B, m): checked here for a message about the contact set rather than the model.
+StridedIn lambda_arg(Args& args, const PyContacts& pc, nb::handle h, const char* fn, const char* arg) {
+  const Array a = to_array(h, fn, arg);
+  const std::size_t m = std::size_t(pc.impl->rows);
+  if (!((a.ndim() == 1 && a.shape(0) == m) || (a.ndim() == 2 && a.shape(1) == m))) {
+    std::ostringstream s;
+    s << fn << ": argument '" << arg << "' has shape " << shape_str(a) << "; the contact set has " << m
+      << " rows (contacts.rows), so expected (" << m << ",) or (B, " << m << ")";
+    throw nb::value_error(s.str().c_str());
+  }
+  return strided(args.vector(a.obj, arg, pc.impl->rows, "rows"));
 }
 
 }  // namespace
@@ -386,12 +252,13 @@ StridedIn lambda_arg(Args& args, const PyContacts& pc, nb::handle h, const char*
 
 void bind_contacts(nb::module_& m) {
   using namespace contacts_py;
-  if (_import_array() < 0) throw nb::python_error();  // this source's own pointer to NumPy's C API
 
   nb::class_<Contact>(m, "Contact",
                       "A rigid contact description (Contact6D or Contact3D), to be placed in a Contacts set.")
-      .def_prop_ro("frame", [](const Contact& c) { return c.frame; }, "The frame: a name or an index of frame_names.")
-      .def_prop_ro("type", [](const Contact& c) { return std::string(c.six_d ? "6d" : "3d"); }, "'6d' or '3d'.")
+      .def_prop_ro("frame", [](const Contact& c) { return FrameOut{c.frame}; },
+                   "The frame: a name or an index of the model's frame_names.")
+      .def_prop_ro("type", [](const Contact& c) { return std::string(c.six_d ? "6d" : "3d"); },
+                   "'6d' (Contact6D) or '3d' (Contact3D).")
       .def_prop_ro("reference", [](const Contact& c) { return c.reference; },
                    "Axes lambda is reported in: 'local' (the frame's) or 'local_world_aligned' (world axes).")
       .def_prop_ro("kp", [](const Contact& c) { return c.kp; }, "Baumgarte position gain [1/s^2].")
@@ -399,9 +266,9 @@ void bind_contacts(nb::module_& m) {
       .def_prop_ro("friction", [](const Contact& c) { return c.friction; },
                    "Friction coefficient mu (contact_inverse_dynamics' friction pyramid).")
       .def_prop_ro("sole",
-                   [](const Contact& c) -> nb::object {
-                     if (!c.has_sole) return nb::none();
-                     return nb::make_tuple(c.sole[0], c.sole[1], c.sole[2], c.sole[3]);
+                   [](const Contact& c) {
+                     if (!c.has_sole) return SoleOut{nb::none()};
+                     return SoleOut{nb::make_tuple(c.sole[0], c.sole[1], c.sole[2], c.sole[3])};
                    },
                    "(x_min, x_max, y_min, y_max) [m] in the frame's x-y plane, or None (6D only).")
       .def("__repr__", &describe);
@@ -449,11 +316,12 @@ void bind_contacts(nb::module_& m) {
       "The constraint rows (m = contacts.rows) and the forces lambda (m,) stack the contacts in the list's order,\n"
       "each contact's block at contacts.offsets[k] (6 rows for a 6D contact, linear first; 3 for a 3D one).\n"
       "damping mu > 0: damped least squares for redundant contacts (lambda = (J H^-1 J^T + mu I)^-1 (...)).\n"
-      "Raises KeyError for an unknown frame name, ModelError for a frame index out of range or a 'world' reference.\n"
+      "contacts: a list of Contact6D / Contact3D (or one of them). Raises KeyError for an unknown frame name\n"
+      "(with the closest names), ModelError for a frame index out of range.\n"
       "A set may be used from several Python threads (a thread that finds its buffers busy uses fresh ones).")
       .def("__init__",
-           [](PyContacts* self, std::shared_ptr<ModelBase> model, nb::handle contacts, double damping) {
-             PyContacts made = make_contact_set(std::move(model), contacts, damping);
+           [](PyContacts* self, std::shared_ptr<ModelBase> model, ContactsArg contacts, double damping) {
+             PyContacts made = make_contact_set(std::move(model), contacts.h, damping);
              new (self) PyContacts(std::move(made));
            },
            "model"_a, "contacts"_a, "damping"_a = 0.0)
@@ -466,7 +334,13 @@ void bind_contacts(nb::module_& m) {
       .def_prop_ro("offsets", [](const PyContacts& c) { return c.impl->offsets; },
                    "First row of each contact in lambda and in the Jacobian.")
       .def_prop_ro("damping", [](const PyContacts& c) { return c.impl->damping; }, "The damping mu.")
-      .def_prop_ro("contacts", [](const PyContacts& c) { return c.descriptions; }, "The contact descriptions.")
+      .def_prop_ro("contacts",
+                   [](const PyContacts& c) {
+                     nb::list l;
+                     for (const nb::object& d : c.descriptions) l.append(d);
+                     return ContactListOut{l};
+                   },
+                   "The contact descriptions (Contact6D / Contact3D), in order.")
       .def_prop_ro("targets",
                    [](const PyContacts& c) {
                      npy_intp shape[3] = {npy_intp(c.impl->names.size()), 4, 4};
@@ -479,7 +353,7 @@ void bind_contacts(nb::module_& m) {
       .def("set_targets",
            [](PyContacts& c, ArrayLike q) {
              Args args(*c.model, "Contacts.set_targets");
-             const StridedIn in = args.q(q.h);
+             const StridedIn in = q_arg(args, q.h);
              if (args.batched()) throw nb::value_error("Contacts.set_targets: 'q' must be one configuration (nq,)");
              args.check_finite();
              c.impl->set_targets(in.p);
@@ -503,13 +377,13 @@ void bind_contacts(nb::module_& m) {
           Args args(*pc.model, "constrained_forward_dynamics");
           ContactCall c;
           c.op = ContactOp::ForwardDynamics;
-          c.in[0] = args.q(q.h);
-          c.in[1] = args.v(v.h, "v");
-          c.in[2] = args.v(tau.h, "tau");
+          c.in[0] = q_arg(args, q.h);
+          c.in[1] = v_arg(args, v.h, "v");
+          c.in[2] = v_arg(args, tau.h, "tau");
           const std::size_t nv = std::size_t(pc.model->nv), rows = std::size_t(pc.impl->rows);
           Output a(args, {nv}), lam(args, {rows});
-          c.out[0] = a.out(), c.out[1] = lam.out();
-          execute(*pc.impl, c, args, threads, check);
+          c.out[0] = strided(a.out()), c.out[1] = strided(lam.out());
+          run_contacts(*pc.impl, c, args, threads, check);
           return std::make_tuple(a.array(), lam.array());
         },
         "contacts"_a, "q"_a, "v"_a, "tau"_a, nb::kw_only(), SPATIAL_PY_KW,
@@ -529,12 +403,12 @@ void bind_contacts(nb::module_& m) {
           ContactCall c;
           c.op = ContactOp::Impulse;
           c.restitution = restitution;
-          c.in[0] = args.q(q.h);
-          c.in[1] = args.v(v.h, "v");
+          c.in[0] = q_arg(args, q.h);
+          c.in[1] = v_arg(args, v.h, "v");
           const std::size_t nv = std::size_t(pc.model->nv), rows = std::size_t(pc.impl->rows);
           Output va(args, {nv}), imp(args, {rows});
-          c.out[0] = va.out(), c.out[1] = imp.out();
-          execute(*pc.impl, c, args, threads, check);
+          c.out[0] = strided(va.out()), c.out[1] = strided(imp.out());
+          run_contacts(*pc.impl, c, args, threads, check);
           return std::make_tuple(va.array(), imp.array());
         },
         "contacts"_a, "q"_a, "v"_a, "restitution"_a = 0.0, nb::kw_only(), SPATIAL_PY_KW,
@@ -553,16 +427,16 @@ void bind_contacts(nb::module_& m) {
           Args args(*pc.model, "contact_inverse_dynamics");
           ContactCall c;
           c.op = ContactOp::InverseDynamics;
-          c.in[0] = args.q(q.h);
-          c.in[1] = args.v(v.h, "v");
-          c.in[2] = args.v(a.h, "a");
+          c.in[0] = q_arg(args, q.h);
+          c.in[1] = v_arg(args, v.h, "v");
+          c.in[2] = v_arg(args, a.h, "a");
           const std::size_t nv = std::size_t(pc.model->nv), rows = std::size_t(pc.impl->rows);
-          Output tau(args, {nv}), lam(args, {rows}), ok(args, {}, NPY_BOOL);
-          c.out[0] = tau.out(), c.out[1] = lam.out();
-          c.flag = ok.flags();
-          execute(*pc.impl, c, args, threads, check);
-          BoolOrArray flag{args.batched() ? ok.obj : nb::bool_(ok.flags()[0])};
-          return std::make_tuple(tau.array(), lam.array(), flag);
+          Output tau(args, {nv}), lam(args, {rows});
+          Flags ok(args);
+          c.out[0] = strided(tau.out()), c.out[1] = strided(lam.out());
+          c.flag = ok.data;
+          run_contacts(*pc.impl, c, args, threads, check);
+          return std::make_tuple(tau.array(), lam.array(), ok.result(args));
         },
         "contacts"_a, "q"_a, "v"_a, "a"_a, nb::kw_only(), SPATIAL_PY_KW,
         "Whole-body inverse dynamics of a floating base with contacts: (tau, lam, ok), tau (nv,), lam (m,), ok a\n"
@@ -579,10 +453,10 @@ void bind_contacts(nb::module_& m) {
           Args args(*pc.model, "contact_jacobian");
           ContactCall c;
           c.op = ContactOp::Jacobian;
-          c.in[0] = args.q(q.h);
+          c.in[0] = q_arg(args, q.h);
           Output J(args, {std::size_t(pc.impl->rows), std::size_t(pc.model->nv)});
-          c.out[0] = J.out();
-          execute(*pc.impl, c, args, threads, check);
+          c.out[0] = strided(J.out());
+          run_contacts(*pc.impl, c, args, threads, check);
           return J.array();
         },
         "contacts"_a, "q"_a, nb::kw_only(), SPATIAL_PY_KW,
@@ -595,11 +469,11 @@ void bind_contacts(nb::module_& m) {
           Args args(*pc.model, "contact_wrench");
           ContactCall c;
           c.op = ContactOp::Wrench;
-          c.in[0] = args.q(q.h);
-          c.in[1] = lambda_arg(args, pc, lam.h, "lam");
+          c.in[0] = q_arg(args, q.h);
+          c.in[1] = lambda_arg(args, pc, lam.h, "contact_wrench", "lam");
           Output w(args, {6});
-          c.out[0] = w.out();
-          execute(*pc.impl, c, args, threads, check);
+          c.out[0] = strided(w.out());
+          run_contacts(*pc.impl, c, args, threads, check);
           return w.array();
         },
         "contacts"_a, "q"_a, "lam"_a, nb::kw_only(), SPATIAL_PY_KW,
@@ -613,11 +487,11 @@ void bind_contacts(nb::module_& m) {
           ContactCall c;
           c.op = ContactOp::CenterOfPressure;
           c.height = height;
-          c.in[0] = args.q(q.h);
-          c.in[1] = lambda_arg(args, pc, lam.h, "lam");
+          c.in[0] = q_arg(args, q.h);
+          c.in[1] = lambda_arg(args, pc, lam.h, "center_of_pressure", "lam");
           Output p(args, {3});
-          c.out[0] = p.out();
-          execute(*pc.impl, c, args, threads, check);
+          c.out[0] = strided(p.out());
+          run_contacts(*pc.impl, c, args, threads, check);
           return p.array();
         },
         "contacts"_a, "q"_a, "lam"_a, "height"_a = 0.0, nb::kw_only(), SPATIAL_PY_KW,
@@ -632,13 +506,13 @@ void bind_contacts(nb::module_& m) {
           ContactCall c;
           c.op = ContactOp::MultibodyZmp;
           c.height = height;
-          c.in[0] = args.q(q.h);
-          c.in[1] = args.v(v.h, "v");
-          c.in[2] = args.v(a.h, "a");
+          c.in[0] = q_arg(args, q.h);
+          c.in[1] = v_arg(args, v.h, "v");
+          c.in[2] = v_arg(args, a.h, "a");
           Output p(args, {3});
-          c.out[0] = p.out();
+          c.out[0] = strided(p.out());
           std::unique_ptr<ContactsBase> engine = model->make_contacts({}, 0.0);  // the model's data, no contacts
-          execute(*engine, c, args, threads, check);
+          run_contacts(*engine, c, args, threads, check);
           return p.array();
         },
         "model"_a, "q"_a, "v"_a, "a"_a, "height"_a = 0.0, nb::kw_only(), SPATIAL_PY_KW,
