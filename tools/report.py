@@ -16,7 +16,8 @@ process accumulates wall time but not CPU time.
 Charts need matplotlib (scripts/peers.sh installs it into build/venv); without it the tables are still written.
 The "Scenes" section reads <output>/scenes/*.json (spatial-dyn scene all; plots by tools/plot_scenes.py); the
 "Walking (closed loop)" section reads <output>/walk*/walk.json (spatial-dyn walk; plots by tools/plot_walk.py) and adds
-a record of kind "walking" to summary.json.
+a record of kind "walking" to summary.json. The "Python package (issue 14)" section reads <output>/python/
+(bench/python_bench.py's bench.md, tools/python_torque_map.py's torque_map.json and torque_map.png).
 Usage: tools/report.py [--input build/report/raw] [--output build/report] [--time cpu|real] [--scenes DIR]
 """
 
@@ -837,6 +838,64 @@ def walking_section(w, out_dir):
             "walking": {"closed_loop": default["closed_loop"], "timings": default["timings"]}}
 
 
+def python_section(w, out_dir):
+    """The Python package of issue 14, from <out_dir>/python/: bench/python_bench.py's tables (bench.md, included as
+    written) and tools/python_torque_map.py's torque maps (torque_map.json, torque_map.png)."""
+    pdir = os.path.join(out_dir, "python")
+    w("## Python package (issue 14)")
+    w("")
+    if not os.path.isdir(pdir):
+        w(f"Not run: no `{pdir}` (bench/python_bench.py and tools/python_torque_map.py write it, with the package "
+          "installed).")
+        w("")
+        return
+    bench_md = os.path.join(pdir, "bench.md")
+    if os.path.exists(bench_md):
+        w("Performance of the nanobind extension (`bench/python_bench.py`; its JSON: `python/bench.json`):")
+        w("")
+        with open(bench_md) as f:
+            w(f.read().rstrip())
+        w("")
+    else:
+        w("Performance (`bench/python_bench.py`): not run.")
+        w("")
+    path = os.path.join(pdir, "torque_map.json")
+    if not os.path.exists(path):
+        w("Torque map (`tools/python_torque_map.py`): not run.")
+        w("")
+        return
+    try:
+        with open(path) as f:
+            tm = json.load(f)
+    except (OSError, ValueError) as e:
+        print(f"report.py: skipping {path}: {e}", file=sys.stderr)
+        return
+    g, call = tm["grid"], tm["batch_call"]
+    w(f"The example of the package (`tools/python_torque_map.py`): the HOAP-3 standing on its right sole "
+      f"(`load_urdf(..., root='{tm['model']['root']}')`, head and wrists locked), gravity torques over "
+      f"{g['points_per_axis']} × {g['points_per_axis']} poses of the stance leg's hip pitch × knee within their URDF "
+      f"limits, every other joint at 0, in one `{call['call']}` batch call ({call['seconds'] * 1e3:.2f} ms of wall "
+      f"time, {fmt_ns(call['ns_per_state'])} per pose, on one thread). Limit = the motor's maximum torque (the URDF "
+      "effort); rated: the data sheet's rated torque.")
+    w("")
+    rows = []
+    for j in tm["joints"]:
+        at = j["max_abs_tau_at"]
+        frac = j["fraction_beyond_limit"]
+        rated = j["fraction_beyond_rated"]
+        rows.append([f"{j['title']} ({j['joint'].replace('_joint', '')})", f"{j['effort_limit_Nm']:g}",
+                     f"{j['rated_Nm']:g}" if j["rated_Nm"] else "–", f"{j['max_abs_tau_Nm']:.3f}",
+                     f"{math.degrees(at['hip_pitch_rad']):.0f}°, {math.degrees(at['knee_rad']):.0f}°",
+                     f"{100 * frac:.1f} %" if frac is not None else "–",
+                     f"{100 * rated:.1f} %" if rated is not None else "–"])
+    w(md_table(["joint", "limit [N m]", "rated [N m]", "max abs(τ) [N m]", "at hip pitch, knee",
+                "grid beyond the limit", "grid beyond rated"], rows))
+    w("")
+    if tm.get("plot") and os.path.exists(os.path.join(pdir, tm["plot"])):
+        w(f"![gravity torques of the stance leg against the motor limits](python/{tm['plot']})")
+        w("")
+
+
 def write_report(out_dir, compilers, records, time_kind, charts_enabled=True, scenes_dir=None):
     os.makedirs(out_dir, exist_ok=True)
     notes = []
@@ -1204,6 +1263,7 @@ def write_report(out_dir, compilers, records, time_kind, charts_enabled=True, sc
     scenes_section(w, scenes_dir or os.path.join(out_dir, "scenes"), out_dir)
     ilqr_section(w, os.path.join(out_dir, "ilqr"))
     walking = walking_section(w, out_dir)
+    python_section(w, out_dir)
 
     if charts:
         w("## Charts")

@@ -500,22 +500,21 @@ void bind_contacts(nb::module_& m) {
         "((h fx - ny) / fz, (nx + h fy) / fz, h). NaN when fz <= 0 (nothing pushes the robot up).");
 
   m.def("multibody_zmp",
-        [](std::shared_ptr<ModelBase> model, ArrayLike q, ArrayLike v, ArrayLike a, double height, int threads,
+        [](const ModelBase& model, ArrayLike q, ArrayLike v, ArrayLike a, double height, PyData* data, int threads,
            bool check) {
-          Args args(*model, "multibody_zmp");
-          ContactCall c;
-          c.op = ContactOp::MultibodyZmp;
+          Args args(model, "multibody_zmp");
+          Call c;
+          c.op = Op::MultibodyZmp;
           c.height = height;
-          c.in[0] = q_arg(args, q.h);
-          c.in[1] = v_arg(args, v.h, "v");
-          c.in[2] = v_arg(args, a.h, "a");
+          c.in[0] = args.vector(q.h, "q", model.nq, "nq");
+          c.in[1] = args.vector(v.h, "v", model.nv, "nv");
+          c.in[2] = args.vector(a.h, "a", model.nv, "nv");
           Output p(args, {3});
-          c.out[0] = strided(p.out());
-          std::unique_ptr<ContactsBase> engine = model->make_contacts({}, 0.0);  // the model's data, no contacts
-          run_contacts(*engine, c, args, threads, check);
+          c.out[0] = p.out();
+          execute(model, c, args, data, threads, check);  // the model's own workspace, as rnea
           return p.array();
         },
-        "model"_a, "q"_a, "v"_a, "a"_a, "height"_a = 0.0, nb::kw_only(), SPATIAL_PY_KW,
+        "model"_a, "q"_a, "v"_a, "a"_a, "height"_a = 0.0, nb::kw_only(), "data"_a.none() = nb::none(), SPATIAL_PY_KW,
         "The zero-moment point (3,) (or (B, 3)) of the motion (q, v, a) on the plane z = height: where the ground\n"
         "wrench the motion needs (RNEA's root wrench, gravity included) has no horizontal moment. Floating base:\n"
         "world coordinates; fixed base: the base frame (the base's reaction on the moving bodies). NaN when that\n"

@@ -35,7 +35,6 @@ enum class ContactOp : int {
   Jacobian,          ///< in q → out J (m × nv, row-major)
   Wrench,            ///< in q, lambda → out [f; n about the world origin] (6), world axes
   CenterOfPressure,  ///< in q, lambda → out point (3) on the plane z = height
-  MultibodyZmp,      ///< in q, v, a → out point (3) on the plane z = height (needs no contacts)
 };
 
 /// A strided array of doubles: state b at p + b * stride (stride 0: shared by every state).
@@ -58,7 +57,7 @@ struct ContactCall {
   StridedOut out[2];
   bool* flag = nullptr;      ///< InverseDynamics: one bool per state (ok)
   double restitution = 0;    ///< Impulse
-  double height = 0;         ///< CenterOfPressure, MultibodyZmp
+  double height = 0;         ///< CenterOfPressure
 };
 
 /// A model's contact set with its buffers (ContactData), behind a model-independent interface.

@@ -4,6 +4,7 @@
 /// runs contact.hpp's and zmp.hpp's algorithms, specialised for the model, over the states of a call.
 
 #include "contacts.hpp"
+#include "engine.hpp"
 
 #include <algorithm>
 #include <cstdint>
@@ -130,7 +131,7 @@ class ContactsEngine final : public ContactsBase {
   /// their own built from ws's contacts (which the calls only read).
   void split(const ContactCall& c, Ws& ws, int threads) const {
     const std::ptrdiff_t n = c.count;
-    const std::ptrdiff_t t = std::max<std::ptrdiff_t>(1, std::min<std::ptrdiff_t>(threads, n));
+    const std::ptrdiff_t t = threads_for(n, threads, kMinStatesPerThread);
     if (t == 1) return range(c, ws, 0, n);
     std::vector<std::thread> pool;
     pool.reserve(static_cast<std::size_t>(t - 1));
@@ -218,9 +219,6 @@ class ContactsEngine final : public ContactsBase {
         }
         break;
       }
-      case ContactOp::MultibodyZmp:
-        put_vector(c.out[0], b, multibody_zmp(m, d, q_at(c.in[0], b), v_at(c.in[1], b), v_at(c.in[2], b), c.height));
-        break;
     }
   }
 };

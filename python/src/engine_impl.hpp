@@ -4,8 +4,8 @@
 /// T a compile-time tree or `DynamicTree`). Included by one source file per model kind, so that the kinds compile in
 /// parallel.
 
-#include "contacts_impl.hpp"
 #include "engine.hpp"
+#include "contacts_impl.hpp"
 
 #include <algorithm>
 #include <thread>
@@ -30,7 +30,7 @@ class IkEngine final : public IkBase {
   int tasks() const override { return solver_.tasks(); }
   void solve(const double* q0, std::ptrdiff_t q0_stride, double* q, IkResult* status, std::ptrdiff_t count,
              int threads) override {
-    const std::ptrdiff_t t = std::max<std::ptrdiff_t>(1, std::min<std::ptrdiff_t>(threads, count));
+    const std::ptrdiff_t t = threads_for(count, threads, kMinIkStartsPerThread);
     if (t == 1) return range(solver_, q0, q0_stride, q, status, 0, count);
     std::vector<std::thread> pool;
     const std::ptrdiff_t chunk = count / t, extra = count % t;
@@ -203,6 +203,7 @@ class Engine final : public ModelBase {
       SPATIAL_PY_OP(RneaDerivatives)
       SPATIAL_PY_OP(AbaDerivatives)
       SPATIAL_PY_OP(InverseInertia)
+      SPATIAL_PY_OP(MultibodyZmp)
 #undef SPATIAL_PY_OP
     }
   }
@@ -222,7 +223,7 @@ class Engine final : public ModelBase {
   template <Op O>
   void split(const Call& c, Ws& ws, int threads) const {
     const std::ptrdiff_t n = c.count;
-    const std::ptrdiff_t t = std::max<std::ptrdiff_t>(1, std::min<std::ptrdiff_t>(threads, n));
+    const std::ptrdiff_t t = threads_for(n, threads, kMinStatesPerThread);
     if (t == 1) return range<O>(c, ws, 0, n);
     std::vector<std::thread> pool;
     pool.reserve(static_cast<std::size_t>(t - 1));
@@ -367,6 +368,8 @@ class Engine final : public ModelBase {
       put_matrix(c.out[2], b, dd.dqdd_dtau);
     } else if constexpr (O == Op::InverseInertia) {
       put_matrix(c.out[0], b, inverse_inertia(m, d, minv(ws), q_at(c.in[0], b)));
+    } else if constexpr (O == Op::MultibodyZmp) {
+      put_vector(c.out[0], b, multibody_zmp(m, d, q_at(c.in[0], b), v_at(c.in[1], b), v_at(c.in[2], b), c.height));
     }
   }
 };

@@ -387,6 +387,13 @@ def test_batches_equal_single_calls_and_threads(key, kind):
             single = as_tuple(f(one))
             for x, y in zip(batch, single):
                 np.testing.assert_array_equal(np.asarray(x[b]), np.asarray(y), err_msg=f"{name} state {b}")
+    # Threads: a batch large enough for three of them (each gets at least 256 states).
+    B = 800
+    S = states(m, B, seed=11)
+    S.L = np.random.default_rng(12).normal(size=(B, c.rows))
+    S.L[:, 2] += 50.0
+    for name, f in all_calls(m, c).items():
+        batch = as_tuple(f(S))
         for t in (2, 3, 0):
             for x, y in zip(as_tuple(f(S, threads=t)), batch):
                 np.testing.assert_array_equal(x, y, err_msg=f"{name} threads={t}")
