@@ -31,6 +31,7 @@ Usage: bench/python_bench.py [--out build/report/python] [--cpp build/report] [-
 
 import argparse
 import datetime
+import functools
 import gc
 import importlib.util
 import json
@@ -85,6 +86,7 @@ def measure(stmt, env, *, repeats, min_time=0.0, number=None):
 # ---------------------------------------------------------------------------------------------------------------
 # The C++ figures of the main job
 # ---------------------------------------------------------------------------------------------------------------
+@functools.lru_cache(maxsize=None)
 def load_report_module():
     spec = importlib.util.spec_from_file_location("spatial_report", os.path.join(REPO, "tools", "report.py"))
     module = importlib.util.module_from_spec(spec)
@@ -178,10 +180,8 @@ def fmt_rate(r):
 
 
 def md_table(header, rows):
-    lines = ["| " + " | ".join(header) + " |", "|" + "|".join("---" for _ in header) + "|"]
-    for r in rows:
-        lines.append("| " + " | ".join(str(c) for c in r) + " |")
-    return "\n".join(lines)
+    """tools/report.py's markdown table."""
+    return load_report_module().md_table(header, rows)
 
 
 def distribution_version(name):

@@ -58,7 +58,10 @@ from ._spatial import (  # noqa: F401  (re-exported)
     impulse_dynamics,
     integrate,
     inverse_inertia,
+    keep_branches,
+    keep_joints,
     kinetic_energy,
+    lock_joints,
     multibody_zmp,
     normalize,
     potential_energy,
@@ -76,7 +79,7 @@ __all__ = [
     "rnea_derivatives", "urdf_path", "IkTask", "IkStatus", "IkSolver", "ik_position", "ik_orientation", "ik_pose",
     "ik_center_of_mass", "Contact", "Contact3D", "Contact6D", "Contacts", "center_of_pressure",
     "constrained_forward_dynamics", "contact_inverse_dynamics", "contact_jacobian", "contact_wrench",
-    "impulse_dynamics", "multibody_zmp",
+    "impulse_dynamics", "multibody_zmp", "lock_joints", "keep_joints", "keep_branches",
 ]
 
 _URDF_DIR = _os.path.join(_os.path.dirname(__file__), "urdf")

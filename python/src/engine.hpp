@@ -139,6 +139,7 @@ class ModelBase {
   bool floating = false, compile_time = false;
   int nq = 0, nv = 0, njoints = 0;
   std::vector<std::string> joint_names, body_names, frame_names, warnings;
+  std::vector<int> source_joints;  ///< a reduced model: its joints' indices in the model it was reduced from
   std::vector<double> lower, upper, effort, velocity;
   Eigen::Vector3d gravity = Eigen::Vector3d::Zero();
   double total_mass = 0;
@@ -150,6 +151,10 @@ class ModelBase {
   virtual void neutral(double* q) const = 0;
   /// An inverse-kinematics solver on this model (throws std::invalid_argument for bad frames, limits, active).
   virtual std::unique_ptr<IkBase> make_ik(const std::vector<IkTaskSpec>& tasks, const IkOptionsSpec& opt) const = 0;
+  /// Model reduction (reduce.hpp), fixed base only: `kind` 0 lock_joints(names at positions), 1 keep_joints(names,
+  /// the others held at q), 2 keep_branches(body names, the others held at q). Throws ModelError naming the joint.
+  virtual std::shared_ptr<ModelBase> reduce(int kind, const std::vector<std::string>& names,
+                                            const std::vector<double>& positions, const double* q) const = 0;
   /// A contact set on this model (contacts.hpp, contacts_impl.hpp).
   virtual std::unique_ptr<ContactsBase> make_contacts(const std::vector<ContactSpec>& specs, double damping) const = 0;
 
@@ -160,6 +165,8 @@ class ModelBase {
 };
 
 std::shared_ptr<ModelBase> make_runtime_model(const urdf_io::LoadedModel& loaded, const std::string& name);
+/// The engine of a reduced model, its description taken from the model it was reduced from (models_runtime.cpp).
+std::shared_ptr<ModelBase> make_reduced_model(const ModelBase& from, const ReducedModel<double>& reduced);
 std::shared_ptr<ModelBase> make_hoap3_stance_right();
 std::shared_ptr<ModelBase> make_hoap3_stance_left();
 std::shared_ptr<ModelBase> make_hoap3_torso();

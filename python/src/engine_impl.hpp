@@ -174,6 +174,25 @@ class Engine final : public ModelBase {
   std::unique_ptr<IkBase> make_ik(const std::vector<IkTaskSpec>& tasks, const IkOptionsSpec& opt) const override {
     return std::make_unique<IkEngine<M>>(model_, tasks, opt);
   }
+  std::shared_ptr<ModelBase> reduce(int kind, const std::vector<std::string>& names,
+                                    const std::vector<double>& positions, const double* q) const override {
+    if constexpr (kFloating) {
+      (void)kind, (void)names, (void)positions, (void)q;
+      throw ModelError(name + ": model reduction (lock_joints, keep_joints, keep_branches) works on fixed-base "
+                       "models; load the URDF with lock= instead");
+    } else {
+      const Model<double> rt = model_.to_runtime();
+      const Eigen::Map<const Eigen::VectorXd> qm(q ? q : positions.data(), q ? nq : 0);
+      std::vector<JointRef> refs(names.begin(), names.end());
+      if (kind == 0) {
+        std::vector<JointLock> locks;
+        for (std::size_t k = 0; k < names.size(); ++k) locks.push_back({JointRef(names[k]), positions[k]});
+        return make_reduced_model(*this, lock_joints(rt, locks));
+      }
+      if (kind == 1) return make_reduced_model(*this, keep_joints(rt, refs, qm));
+      return make_reduced_model(*this, keep_branches(rt, refs, qm));
+    }
+  }
   std::unique_ptr<ContactsBase> make_contacts(const std::vector<ContactSpec>& specs, double damping) const override {
     return make_contacts_for<M>(model_, specs, damping);
   }

@@ -20,4 +20,21 @@ std::shared_ptr<ModelBase> make_runtime_model(const urdf_io::LoadedModel& loaded
   return e;
 }
 
+std::shared_ptr<ModelBase> make_reduced_model(const ModelBase& from, const ReducedModel<double>& reduced) {
+  auto e = std::make_shared<Engine<Model<double>>>(reduced.model);
+  e->name = from.name + " (reduced)";
+  e->root = from.root;
+  e->warnings = from.warnings;
+  e->total_mass = from.total_mass;
+  for (int j : reduced.joints) {
+    const auto k = static_cast<std::size_t>(j);
+    e->lower.push_back(from.lower[k]);
+    e->upper.push_back(from.upper[k]);
+    e->effort.push_back(from.effort[k]);
+    e->velocity.push_back(from.velocity[k]);
+    e->source_joints.push_back(j);
+  }
+  return e;
+}
+
 }  // namespace spatial::python

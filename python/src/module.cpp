@@ -77,6 +77,9 @@ NB_MODULE(_spatial, m) {
       .def_ro("body_names", &ModelBase::body_names, "Body names (the URDF link each joint moves), model order.")
       .def_ro("frame_names", &ModelBase::frame_names,
               "Fixed frames: links merged into a body or the base (soles, hands, ...).")
+      .def_ro("source_joints", &ModelBase::source_joints,
+              "A reduced model (lock_joints, keep_joints, keep_branches): the index of each of its joints in the "
+              "model it was reduced from; empty otherwise.")
       .def_ro("warnings", &ModelBase::warnings, "What the URDF loader accepted with a warning (one per link).")
       .def_prop_ro("lower", [](const ModelBase& b) { return as_numpy(b.lower); }, "Lower position limits (-inf: none).")
       .def_prop_ro("upper", [](const ModelBase& b) { return as_numpy(b.upper); }, "Upper position limits (inf: none).")
@@ -156,6 +159,33 @@ NB_MODULE(_spatial, m) {
   m.def("hoap3_floating", &spatial::python::make_hoap3_floating,
         "The HOAP-3 on a free-flyer at the pelvis + the 21 joints of the stance models, compile-time tree.");
 
+  // ---- model reduction (reduce.hpp) ----------------------------------------------------------------------------
+  m.def("lock_joints",
+        [](const ModelBase& b, nb::dict locks) {
+          std::vector<std::string> names;
+          std::vector<double> positions;
+          for (auto [k, v] : locks) names.push_back(nb::cast<std::string>(k)), positions.push_back(nb::cast<double>(v));
+          return b.reduce(0, names, positions, nullptr);
+        },
+        "model"_a, "locks"_a,
+        "A run-time model with the joints {name: position} held there, their bodies merged exactly into their moving "
+        "parents (fixed base only). Its source_joints map its joints to the model's.");
+  const auto bind_keep = [&m](const char* fn, int kind, const char* what, const char* doc) {
+    m.def(fn,
+          [fn, kind](const ModelBase& b, std::vector<std::string> names, ArrayLike q) {
+            Args args(b, fn);
+            const In in = args.vector(q.h, "q", b.nq, "nq");
+            if (args.batched()) throw nb::value_error((std::string(fn) + ": one configuration q (nq,)").c_str());
+            return b.reduce(kind, names, {}, in.p);
+          },
+          "model"_a, nb::arg(what), "q"_a, doc);
+  };
+  bind_keep("keep_joints", 1, "joints",
+            "A run-time model with only these joints moving, every other joint held at its entry of q (fixed base).");
+  bind_keep("keep_branches", 2, "bodies",
+            "A run-time model with only the subtrees of these bodies moving (each body's own joint included), every "
+            "other joint held at its entry of q (fixed base).");
+
   m.def("_neutral", [](const ModelBase& b) -> NDArray {
     std::vector<double> q(std::size_t(b.nq));
     b.neutral(q.data());
@@ -165,23 +195,28 @@ NB_MODULE(_spatial, m) {
   // ---- algorithms ----------------------------------------------------------------------------------------------
   // Each: (model, arrays..., keywords) → fresh arrays. `fext` rows [fx fy fz nx ny nz] per body, body coordinates.
 #define SPATIAL_PY_KW "data"_a.none() = nb::none(), "threads"_a = 1, "check"_a = false
-  m.def("rnea",
-        [](const ModelBase& b, ArrayLike q, ArrayLike v, ArrayLike a, ArrayLike fext, PyData* data, int threads,
-           bool check) {
-          Args args(b, "rnea");
-          Call c;
-          c.op = Op::Rnea;
-          c.in[0] = args.vector(q.h, "q", b.nq, "nq");
-          c.in[1] = args.vector(v.h, "v", b.nv, "nv");
-          c.in[2] = args.vector(a.h, "a", b.nv, "nv");
-          if (!fext.h.is_none()) c.in[3] = args.forces(fext.h, "fext", b.njoints + (b.floating ? 1 : 0));
-          Output tau(args, {std::size_t(b.nv)});
-          c.out[0] = tau.out();
-          execute(b, c, args, data, threads, check);
-          return tau.array();
-        },
-        "model"_a, "q"_a, "v"_a, "a"_a, "fext"_a.none() = nb::none(), nb::kw_only(), SPATIAL_PY_KW,
-        "Inverse dynamics (RNEA): tau (nv,) or (B, nv) = H(q) a + C(q, v) - sum J^T fext.");
+  // RNEA and ABA: (q, v, a or tau[, fext]) -> (nv,).
+  const auto bind_dynamics = [&m](const char* fn, Op op, const char* third, const char* doc) {
+    m.def(fn,
+          [fn, op, third](const ModelBase& b, ArrayLike q, ArrayLike v, ArrayLike x, ArrayLike fext, PyData* data,
+                          int threads, bool check) {
+            Args args(b, fn);
+            Call c;
+            c.op = op;
+            c.in[0] = args.vector(q.h, "q", b.nq, "nq");
+            c.in[1] = args.vector(v.h, "v", b.nv, "nv");
+            c.in[2] = args.vector(x.h, third, b.nv, "nv");
+            if (!fext.h.is_none()) c.in[3] = args.forces(fext.h, "fext", b.njoints + (b.floating ? 1 : 0));
+            Output out(args, {std::size_t(b.nv)});
+            c.out[0] = out.out();
+            execute(b, c, args, data, threads, check);
+            return out.array();
+          },
+          "model"_a, "q"_a, "v"_a, nb::arg(third), "fext"_a.none() = nb::none(), nb::kw_only(), SPATIAL_PY_KW, doc);
+  };
+  bind_dynamics("rnea", Op::Rnea, "a",
+                "Inverse dynamics (RNEA): tau (nv,) or (B, nv) = H(q) a + C(q, v) - sum J^T fext.");
+  bind_dynamics("aba", Op::Aba, "tau", "Forward dynamics (ABA): a (nv,) or (B, nv).");
 
   // Ops whose inputs are vectors only: described by (name, inputs (argument name, nq or nv), output shape).
   struct VecIn {
@@ -260,24 +295,6 @@ NB_MODULE(_spatial, m) {
   bind_vec("normalize", Op::Normalize, {{"q", true}}, 3, "q with its quaternion normalised (a copy).");
   bind_vec("inverse_inertia", Op::InverseInertia, {{"q", true}}, 1,
            "H(q)^-1 (nv, nv) computed without forming H (ABA on unit torques), both triangles filled.");
-
-  m.def("aba",
-        [](const ModelBase& b, ArrayLike q, ArrayLike v, ArrayLike tau, ArrayLike fext, PyData* data, int threads,
-           bool check) {
-          Args args(b, "aba");
-          Call c;
-          c.op = Op::Aba;
-          c.in[0] = args.vector(q.h, "q", b.nq, "nq");
-          c.in[1] = args.vector(v.h, "v", b.nv, "nv");
-          c.in[2] = args.vector(tau.h, "tau", b.nv, "nv");
-          if (!fext.h.is_none()) c.in[3] = args.forces(fext.h, "fext", b.njoints + (b.floating ? 1 : 0));
-          Output a(args, {std::size_t(b.nv)});
-          c.out[0] = a.out();
-          execute(b, c, args, data, threads, check);
-          return a.array();
-        },
-        "model"_a, "q"_a, "v"_a, "tau"_a, "fext"_a.none() = nb::none(), nb::kw_only(), SPATIAL_PY_KW,
-        "Forward dynamics (ABA): a (nv,) or (B, nv).");
 
   m.def("integrate",
         [](const ModelBase& b, ArrayLike q, ArrayLike v, double dt, PyData* data, int threads, bool check) {
