@@ -150,15 +150,10 @@ def cpp_figures(cpp_dir):
 # Formatting
 # ---------------------------------------------------------------------------------------------------------------
 def fmt_ns(ns):
-    if ns is None:
-        return "–"
-    if ns >= 1e9:
+    """tools/report.py's fmt_ns, with seconds for the 1e6-state batches (report.py has no figure that long)."""
+    if ns is not None and ns >= 1e9:
         return f"{ns / 1e9:.3g} s"
-    if ns >= 1e6:
-        return f"{ns / 1e6:.3g} ms"
-    if ns >= 1e3:
-        return f"{ns / 1e3:.3g} µs"
-    return f"{ns:.3g} ns"
+    return load_report_module().fmt_ns(ns)
 
 
 def fmt_delta(ns):
