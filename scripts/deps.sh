@@ -18,6 +18,7 @@ packages=(
   liborocos-kdl-dev
   libgtest-dev
   libbenchmark-dev
+  libxsimd-dev
 )
 
 missing=()
