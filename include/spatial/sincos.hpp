@@ -14,6 +14,15 @@
 
 namespace spatial::detail {
 
+/// A customisation point for scalar types that compute sine and cosine together (batch.hpp's SIMD lanes, whose
+/// `xsimd::sincos` shares one argument reduction between the two): specialise with `custom = true` and a static
+/// `sincos(S x, S& s, S& c)`. The built-in floating-point types take `sincos_reduced` below; other scalars
+/// std::sin and std::cos.
+template <class S>
+struct SincosTraits {
+  static constexpr bool custom = false;
+};
+
 /// sin and cos of x for |x| < kSincosFastLimit (no branch: suitable for vectorised loops).
 inline void sincos_reduced(double x, double& s_out, double& c_out) {
   // k = nearest integer to x·2/π, by the 1.5·2⁵² rounding trick (round to nearest, no branch); the low bits of
@@ -91,6 +100,8 @@ inline void sincos_all(const Q& q, C& c, C& s, int n) {
         }
       }
     }
+  } else if constexpr (SincosTraits<S>::custom) {
+    for (int i = 0; i < n; ++i) SincosTraits<S>::sincos(S(q[i]), s[i], c[i]);
   } else {
     using std::cos;
     using std::sin;

@@ -8,7 +8,7 @@
 # Any failing step stops the test and prints that step's command and full output.
 #
 # Required: SPATIAL_BUILD_DIR, CONSUMER_SOURCE_DIR, WORK_DIR.
-# Optional: CONFIG, GENERATOR, MAKE_PROGRAM, CXX_COMPILER, Eigen3_DIR, SPATIAL_VERSION, WITH_URDF,
+# Optional: CONFIG, GENERATOR, MAKE_PROGRAM, CXX_COMPILER, Eigen3_DIR, SPATIAL_VERSION, WITH_URDF, WITH_BATCH,
 # QUICKSTART_SOURCE_DIR.
 cmake_minimum_required(VERSION 3.16)
 
@@ -87,14 +87,19 @@ function(run_exe path)
 endfunction()
 
 # 1. The core alone: find_package(spatial) must not need urdfdom, so find_package(urdfdom) is disabled here.
-configure_and_build(core "${CONSUMER_SOURCE_DIR}" -DSPATIAL_CONSUMER_URDF=OFF -DCMAKE_DISABLE_FIND_PACKAGE_urdfdom=ON)
+# Nor xsimd (the component batch).
+configure_and_build(core "${CONSUMER_SOURCE_DIR}" -DSPATIAL_CONSUMER_URDF=OFF -DCMAKE_DISABLE_FIND_PACKAGE_urdfdom=ON
+  -DCMAKE_DISABLE_FIND_PACKAGE_xsimd=ON)
 run_exe("${WORK_DIR}/core/bin/spatial_consumer")
 run_exe("${WORK_DIR}/core/bin/spatial_models_consumer")
 
 if(WITH_URDF)
-  # 2. The component urdf: spatial::urdf and urdfdom.
-  configure_and_build(urdf "${CONSUMER_SOURCE_DIR}" -DSPATIAL_CONSUMER_URDF=ON)
+  # 2. The component urdf: spatial::urdf and urdfdom; with WITH_BATCH also the component batch (spatial::batch, xsimd).
+  configure_and_build(urdf "${CONSUMER_SOURCE_DIR}" -DSPATIAL_CONSUMER_URDF=ON "-DSPATIAL_CONSUMER_BATCH=${WITH_BATCH}")
   run_exe("${WORK_DIR}/urdf/bin/spatial_urdf_consumer")
+  if(WITH_BATCH)
+    run_exe("${WORK_DIR}/urdf/bin/spatial_batch_consumer")
+  endif()
   # 3. The README's quick start (examples/quickstart), so that it keeps compiling and giving the right numbers.
   if(QUICKSTART_SOURCE_DIR)
     configure_and_build(quickstart "${QUICKSTART_SOURCE_DIR}")

@@ -1,0 +1,393 @@
+#pragma once
+/// \file batch.hpp
+/// Many states per call: the algorithms over B states at once, each SIMD lane one state.
+///
+///   #include <spatial/batch.hpp>          // needs xsimd (CMake target spatial::batch)
+///   spatial::Batch<double, Tree> batch(model, /*threads=*/2);
+///   batch.rnea(Q, V, A, Tau);             // Q, V, A, Tau: nv × B, column j = state j
+///
+/// ## How
+/// The library's algorithms are written once for any scalar type. Here the scalar is `xsimd::batch<S>`, a SIMD
+/// register of `lanes` values (xsimd's best instruction set enabled at compile time: 8 doubles with AVX-512, 4 with
+/// AVX2, 2 with SSE2 or ARM NEON; twice as many floats), and the model is the same model with every number broadcast
+/// to all lanes (`Model::cast`). One call of an algorithm on that model then runs `lanes` states at once, in
+/// structure-of-arrays form: every operation of the scalar code becomes one vector instruction over the lanes, with
+/// no shuffle and no horizontal sum, and the compile-time trees keep their unrolled code. Sines and cosines come from
+/// `xsimd::sincos`. B need not be a multiple of `lanes`: the last group's unused lanes repeat its last state and
+/// their results are dropped. States are split over `threads` threads (a pool of the object's own, started once),
+/// each with its own workspace; a state's result does not depend on B, on the thread count or on the other states
+/// of its group, bit for bit (lanes never mix: a NaN in one state stays in that state).
+///
+/// ## Why xsimd
+/// It is a maintained, header-only, Debian-packaged (libxsimd-dev) wrapper whose `batch<T>` is a value type with
+/// the arithmetic operators and vectorised elementary functions (sincos, sqrt) of a scalar, so the library's
+/// scalar-templated algorithms run on it unchanged, and the same source compiles to SSE2, AVX2, AVX-512 or NEON by
+/// compiler flags alone. Google Highway dispatches at run time but its vectors are not value types with operators
+/// (each operation names a tag), so every algorithm would have to be written a second time; Eigen's packet math is
+/// internal API. The price of xsimd: the instruction set is fixed when the caller compiles (build with
+/// -march=native, or -mavx2 -mfma, for wide lanes; the default x86-64 target gets SSE2's two doubles).
+///
+/// ## Numbers against the single-state calls
+/// The operations are those of the scalar code path, but not bit for bit those of a single-state call: sin and cos
+/// are xsimd's (the single-state path has its own, sincos.hpp), the single-state double calls on compile-time trees
+/// of axis-aligned revolute joints take the AVX2 kernels of simd.hpp (another order of the same sums), and the
+/// compiler contracts multiply-adds into FMAs at different places. They agree to a few units in the last place of
+/// the result's scale (tests/support/batch_checks.hpp holds them to 1e-13 relative in double, 3e-5 in float).
+///
+/// ## Cost and limits
+/// Allocation-free after construction, no exception, no virtual call. Fixed-base trees, compile-time or run-time,
+/// every joint type. Not batched (yet): floating-base models, external forces, the derivatives.
+
+#include "spatial/spatial.hpp"
+
+#include <Eigen/Core>
+#include <xsimd/xsimd.hpp>
+
+#include <algorithm>
+#include <condition_variable>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <mutex>
+#include <thread>
+#include <type_traits>
+#include <vector>
+
+namespace Eigen {
+/// xsimd's batch as an Eigen scalar: a real number (per lane) that costs one instruction per operation.
+template <class T, class A>
+struct NumTraits<xsimd::batch<T, A>> : GenericNumTraits<T> {
+  using Real = xsimd::batch<T, A>;
+  using NonInteger = Real;
+  using Nested = Real;
+  using Literal = Real;
+  enum {
+    IsComplex = 0,
+    IsInteger = 0,
+    IsSigned = 1,
+    RequireInitialization = 0,
+    ReadCost = 1,
+    AddCost = 1,
+    MulCost = 1
+  };
+};
+}  // namespace Eigen
+
+namespace spatial {
+
+/// The SIMD register type the batched algorithms compute in: `Lanes<S>::size` states of scalar S.
+template <class S>
+using Lanes = xsimd::batch<S>;
+
+namespace detail {
+/// sin and cos of all lanes with one argument reduction (see sincos.hpp's customisation point).
+template <class T, class A>
+struct SincosTraits<xsimd::batch<T, A>> {
+  static constexpr bool custom = true;
+  static SPATIAL_INLINE void sincos(const xsimd::batch<T, A>& x, xsimd::batch<T, A>& s, xsimd::batch<T, A>& c) {
+    const auto sc = xsimd::sincos(x);
+    s = sc.first;
+    c = sc.second;
+  }
+};
+
+/// A fixed set of worker threads that run one function on task indices 0 … T−1 (the caller runs task 0): started
+/// once, woken per call, no allocation per call.
+class WorkerPool {
+ public:
+  explicit WorkerPool(int threads) {
+    for (int t = 1; t < threads; ++t) workers_.emplace_back([this, t] { loop(t); });
+  }
+  WorkerPool(const WorkerPool&) = delete;
+  WorkerPool& operator=(const WorkerPool&) = delete;
+  ~WorkerPool() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      stop_ = true;
+      ++generation_;
+    }
+    wake_.notify_all();
+    for (auto& w : workers_) w.join();
+  }
+  int size() const { return static_cast<int>(workers_.size()) + 1; }
+
+  /// Runs f(t) for t = 0 … tasks−1 (tasks ≤ size()), t = 0 on the calling thread; returns when all are done.
+  template <class F>
+  void run(int tasks, F& f) {
+    if (tasks <= 1 || workers_.empty()) {
+      f(0);
+      return;
+    }
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      call_ = [](void* ctx, int t) { (*static_cast<F*>(ctx))(t); };
+      ctx_ = &f;
+      tasks_ = tasks;
+      pending_ = static_cast<int>(workers_.size());
+      ++generation_;
+    }
+    wake_.notify_all();
+    f(0);
+    std::unique_lock<std::mutex> lock(mutex_);
+    done_.wait(lock, [this] { return pending_ == 0; });
+  }
+
+ private:
+  void loop(int t) {
+    unsigned long long seen = 0;
+    std::unique_lock<std::mutex> lock(mutex_);
+    for (;;) {
+      wake_.wait(lock, [&] { return generation_ != seen; });
+      seen = generation_;
+      if (stop_) return;
+      const auto call = call_;
+      void* const ctx = ctx_;
+      const bool mine = t < tasks_;
+      lock.unlock();
+      if (mine) call(ctx, t);
+      lock.lock();
+      if (--pending_ == 0) done_.notify_one();
+    }
+  }
+
+  std::vector<std::thread> workers_;
+  std::mutex mutex_;
+  std::condition_variable wake_, done_;
+  unsigned long long generation_ = 0;
+  bool stop_ = false;
+  void (*call_)(void*, int) = nullptr;
+  void* ctx_ = nullptr;
+  int tasks_ = 0;
+  int pending_ = 0;
+};
+
+/// The debug assertion of a batch argument's shape (as sizes.hpp's for single states: prints and aborts unless
+/// SPATIAL_CHECK_SIZES is 0, which NDEBUG makes the default).
+template <class X>
+inline void check_batch_shape(const Eigen::MatrixBase<X>& x, long long rows, long long cols, const char* function,
+                              const char* argument) {
+#if SPATIAL_CHECK_SIZES
+  if (static_cast<long long>(x.rows()) != rows || static_cast<long long>(x.cols()) != cols) {
+    std::fprintf(stderr, "spatial: Batch::%s: argument '%s' is %lld × %lld, expected %lld × %lld\n", function,
+                 argument, static_cast<long long>(x.rows()), static_cast<long long>(x.cols()), rows, cols);
+    std::fflush(stderr);
+    std::abort();
+  }
+#else
+  (void)x;
+  (void)rows;
+  (void)cols;
+  (void)function;
+  (void)argument;
+#endif
+}
+}  // namespace detail
+
+/// The batched algorithms of one fixed-base model (see the file comment). Arguments are matrices with one column per
+/// state (nv × B; any Eigen dense expression of scalar S, e.g. a `Map` of a row-major B × nv array transposed);
+/// outputs are written through `const MatrixBase&` (Eigen's convention, so blocks and maps can be passed) and must
+/// have their size already. B = the number of columns of the first argument (≥ 0).
+template <class S, class TreeT = DynamicTree>
+class Batch {
+ public:
+  using Scalar = S;
+  using Pack = Lanes<S>;
+  using LaneModel = Model<Pack, TreeT>;
+  using LaneData = Data<Pack, TreeT>;
+  /// States per SIMD register (per call of the underlying algorithm).
+  static constexpr int lanes = static_cast<int>(Pack::size);
+
+  /// Copies the model into lane form and allocates one workspace per thread (threads ≤ 0: all hardware threads).
+  explicit Batch(const Model<S, TreeT>& model, int threads = 1)
+      : model_(model.template cast<Pack>()), nv_(model.size()) {
+    if (threads <= 0) threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+    work_.reserve(static_cast<std::size_t>(threads));
+    for (int t = 0; t < threads; ++t) work_.emplace_back(model_, nv_);
+    pool_ = std::make_unique<detail::WorkerPool>(threads);
+  }
+
+  int nv() const { return nv_; }
+  int threads() const { return pool_->size(); }
+  const LaneModel& lane_model() const { return model_; }
+
+  /// τ = RNEA(q, q̇, q̈) per state.
+  template <class Q, class V, class A, class Out>
+  void rnea(const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<V>& v, const Eigen::MatrixBase<A>& a,
+            const Eigen::MatrixBase<Out>& tau) {
+    check("rnea", q, "q", v, "qd", a, "qdd", tau, "tau");
+    each(q.cols(), [&](Work& w, int j0, int m) {
+      gather(q, j0, m, w.q);
+      gather(v, j0, m, w.v);
+      gather(a, j0, m, w.a);
+      scatter(spatial::rnea(model_, w.data, w.q, w.v, w.a), j0, m, tau);
+    });
+  }
+  /// G(q) per state.
+  template <class Q, class Out>
+  void gravity(const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<Out>& tau) {
+    check("gravity", q, "q", tau, "tau");
+    each(q.cols(), [&](Work& w, int j0, int m) {
+      gather(q, j0, m, w.q);
+      scatter(spatial::gravity_torques(model_, w.data, w.q), j0, m, tau);
+    });
+  }
+  /// C(q, q̇) = RNEA(q, q̇, 0) per state.
+  template <class Q, class V, class Out>
+  void bias(const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<V>& v, const Eigen::MatrixBase<Out>& tau) {
+    check("bias", q, "q", v, "qd", tau, "tau");
+    each(q.cols(), [&](Work& w, int j0, int m) {
+      gather(q, j0, m, w.q);
+      gather(v, j0, m, w.v);
+      scatter(spatial::bias_forces(model_, w.data, w.q, w.v), j0, m, tau);
+    });
+  }
+  /// q̈ = ABA(q, q̇, τ) per state.
+  template <class Q, class V, class T, class Out>
+  void aba(const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<V>& v, const Eigen::MatrixBase<T>& tau,
+           const Eigen::MatrixBase<Out>& qdd) {
+    check("aba", q, "q", v, "qd", tau, "tau", qdd, "qdd");
+    each(q.cols(), [&](Work& w, int j0, int m) {
+      gather(q, j0, m, w.q);
+      gather(v, j0, m, w.v);
+      gather(tau, j0, m, w.a);
+      scatter(spatial::aba(model_, w.data, w.q, w.v, w.a), j0, m, qdd);
+    });
+  }
+  /// q̈ by CRBA + the tree's LTDL factorisation (`forward_dynamics_crba`) per state.
+  template <class Q, class V, class T, class Out>
+  void forward_dynamics_crba(const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<V>& v,
+                             const Eigen::MatrixBase<T>& tau, const Eigen::MatrixBase<Out>& qdd) {
+    check("forward_dynamics_crba", q, "q", v, "qd", tau, "tau", qdd, "qdd");
+    each(q.cols(), [&](Work& w, int j0, int m) {
+      gather(q, j0, m, w.q);
+      gather(v, j0, m, w.v);
+      gather(tau, j0, m, w.a);
+      scatter(spatial::forward_dynamics_crba(model_, w.data, w.q, w.v, w.a), j0, m, qdd);
+    });
+  }
+  /// H(q) per state, both triangles: `H` is nv × (nv·B), state j's matrix in columns j·nv … j·nv + nv − 1.
+  template <class Q, class Out>
+  void crba(const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<Out>& H) {
+    detail::check_batch_shape(q, nv_, q.cols(), "crba", "q");
+    detail::check_batch_shape(H, nv_, static_cast<long long>(nv_) * q.cols(), "crba", "H");
+    each(q.cols(), [&](Work& w, int j0, int m) {
+      gather(q, j0, m, w.q);
+      scatter_blocks(spatial::crba(model_, w.data, w.q), j0, m, w.tmp, H);
+    });
+  }
+  /// Placement in base coordinates of fixed frame `frame` (`model.frames()[frame]`) per state: `T` is 3 × (4·B),
+  /// state j's [R p] in columns 4j … 4j + 3 (R: the frame's axes in base coordinates, p: its origin), as
+  /// `frame_pose(model, data, frame).matrix().topRows(3)` after `forward_kinematics`.
+  template <class Q, class Out>
+  void frame_placement(const Eigen::MatrixBase<Q>& q, int frame, const Eigen::MatrixBase<Out>& T) {
+    detail::check_batch_shape(q, nv_, q.cols(), "frame_placement", "q");
+    detail::check_batch_shape(T, 3, 4 * q.cols(), "frame_placement", "T");
+    const FixedFrame<Pack>& fr = model_.frames()[static_cast<std::size_t>(frame)];
+    each(q.cols(), [&](Work& w, int j0, int m) {
+      gather(q, j0, m, w.q);
+      spatial::forward_kinematics(model_, w.data, w.q);
+      const Transform<Pack> X = fr.body >= 0 ? fr.X * w.data.X_base[static_cast<std::size_t>(fr.body)] : fr.X;
+      Eigen::Matrix<Pack, 3, 4> P;
+      P.template leftCols<3>() = X.E.transpose();
+      P.col(3) = X.r;
+      scatter_blocks(P, j0, m, w.tmp, T);
+    });
+  }
+  /// Jacobian of fixed frame `frame` in `rf` per state (`compute_frame_jacobian`): `J` is 6 × (nv·B), state j's in
+  /// columns j·nv … j·nv + nv − 1, rows linear first (the library's Jacobian convention, kinematics.hpp).
+  template <class Q, class Out>
+  void frame_jacobian(const Eigen::MatrixBase<Q>& q, int frame, ReferenceFrame rf, const Eigen::MatrixBase<Out>& J) {
+    detail::check_batch_shape(q, nv_, q.cols(), "frame_jacobian", "q");
+    detail::check_batch_shape(J, 6, static_cast<long long>(nv_) * q.cols(), "frame_jacobian", "J");
+    each(q.cols(), [&](Work& w, int j0, int m) {
+      gather(q, j0, m, w.q);
+      spatial::compute_frame_jacobian(model_, w.data, w.q, frame, rf, w.J);
+      scatter_blocks(w.J, j0, m, w.tmp, J);
+    });
+  }
+
+ private:
+  using VectorL = Eigen::Matrix<Pack, LaneModel::NB, 1>;
+  using JacobianL = Eigen::Matrix<Pack, 6, LaneModel::NB>;
+  struct Work {
+    LaneData data;
+    VectorL q, v, a;
+    JacobianL J;
+    std::vector<S> tmp;  ///< lane-major staging of a matrix result (scatter_blocks)
+    Work(const LaneModel& m, int n)
+        : data(m), q(n), v(n), a(n), J(6, n), tmp(static_cast<std::size_t>(std::max(n * n, 6 * n) + 12) * lanes) {}
+  };
+
+  template <class X, class... Rest>
+  void check(const char* function, const Eigen::MatrixBase<X>& first, const char* name, const Rest&... rest) const {
+    check_each(function, first.cols(), first, name, rest...);
+  }
+  void check_each(const char*, Eigen::Index) const {}
+  template <class X, class... Rest>
+  void check_each(const char* function, Eigen::Index cols, const Eigen::MatrixBase<X>& x, const char* name,
+                  const Rest&... rest) const {
+    detail::check_batch_shape(x, nv_, cols, function, name);
+    check_each(function, cols, rest...);
+  }
+
+  /// f(work, first state, count) for each group of `lanes` states, the groups split over the threads in contiguous
+  /// runs (thread t: groups ⌊G t / T⌋ … ⌊G (t+1) / T⌋ − 1).
+  template <class F>
+  void each(Eigen::Index states, F&& f) {
+    const int B = static_cast<int>(states);
+    const int groups = (B + lanes - 1) / lanes;
+    const int tasks = std::min(threads(), groups);
+    auto task = [&](int t) {
+      Work& w = work_[static_cast<std::size_t>(t)];
+      const int g0 = static_cast<int>(static_cast<long long>(groups) * t / tasks);
+      const int g1 = static_cast<int>(static_cast<long long>(groups) * (t + 1) / tasks);
+      for (int g = g0; g < g1; ++g) {
+        const int j0 = g * lanes;
+        f(w, j0, std::min(lanes, B - j0));
+      }
+    };
+    if (tasks > 0) pool_->run(tasks, task);
+  }
+
+  /// out[i] = (x(i, j0), …, x(i, j0 + m − 1), then x(i, j0 + m − 1) repeated) for every row i.
+  template <class X, class V>
+  static void gather(const Eigen::MatrixBase<X>& x, int j0, int m, V& out) {
+    alignas(Pack::arch_type::alignment()) S buf[lanes];
+    for (Eigen::Index i = 0; i < out.size(); ++i) {
+      for (int l = 0; l < lanes; ++l) buf[l] = x(i, j0 + std::min(l, m - 1));
+      out[i] = Pack::load_aligned(buf);
+    }
+  }
+  /// y(i, j0 + l) = lane l of in[i] for l < m.
+  template <class V, class Y>
+  static void scatter(const V& in, int j0, int m, const Eigen::MatrixBase<Y>& y_) {
+    auto& y = const_cast<Eigen::MatrixBase<Y>&>(y_);
+    alignas(Pack::arch_type::alignment()) S buf[lanes];
+    for (Eigen::Index i = 0; i < in.size(); ++i) {
+      in[i].store_aligned(buf);
+      for (int l = 0; l < m; ++l) y(i, j0 + l) = buf[l];
+    }
+  }
+  /// The r × c matrix of lane l into columns (j0 + l)·c … of y, for l < m: through `tmp` (r·c·lanes), so that each
+  /// state's block is written in memory order (for a column-major y, one contiguous run per state).
+  template <class M, class Y>
+  static void scatter_blocks(const M& in, int j0, int m, std::vector<S>& tmp, const Eigen::MatrixBase<Y>& y_) {
+    auto& y = const_cast<Eigen::MatrixBase<Y>&>(y_);
+    const Eigen::Index r = in.rows(), c = in.cols();
+    S* const t = tmp.data();
+    for (Eigen::Index col = 0; col < c; ++col)
+      for (Eigen::Index row = 0; row < r; ++row) in(row, col).store_unaligned(t + (col * r + row) * lanes);
+    for (int l = 0; l < m; ++l) {
+      const Eigen::Index c0 = static_cast<Eigen::Index>(j0 + l) * c;
+      for (Eigen::Index col = 0; col < c; ++col)
+        for (Eigen::Index row = 0; row < r; ++row) y(row, c0 + col) = t[(col * r + row) * lanes + l];
+    }
+  }
+
+  LaneModel model_;
+  int nv_;
+  std::vector<Work> work_;
+  std::unique_ptr<detail::WorkerPool> pool_;
+};
+
+}  // namespace spatial
