@@ -1,7 +1,7 @@
 # spatial::batch: the batched algorithms (include/spatial/batch.hpp) on xsimd's SIMD batches (Debian: libxsimd-dev).
 #
 # Included from the top-level CMakeLists.txt after the `spatial` INTERFACE target exists. It defines spatial_batch
-# (alias spatial::batch, exported as spatial::batch): INTERFACE, links spatial::spatial and xsimd (header-only).
+# (alias spatial::batch, exported as spatial::batch): INTERFACE, links spatial::spatial, threads and xsimd's headers.
 # The instruction set is the consumer's: xsimd uses the widest one its compile flags enable (-march=native, or e.g.
 # -mavx2 -mfma), SSE2 on a default x86-64 target, NEON on aarch64.
 # For the package config: Config.cmake calls find_dependency(xsimd) for the component batch.
@@ -18,6 +18,10 @@ if(SPATIAL_WITH_BATCH)
   add_library(spatial_batch INTERFACE)
   add_library(spatial::batch ALIAS spatial_batch)
   set_target_properties(spatial_batch PROPERTIES EXPORT_NAME batch)
-  target_link_libraries(spatial_batch INTERFACE spatial::spatial xsimd Threads::Threads)
+  # xsimd's include directory rather than its target: Debian's xsimd 8.1 target lists `xtl` as a link library (an
+  # optional companion library, not needed here and not installed with it), so linking the target gives `-lxtl`.
+  get_target_property(SPATIAL_XSIMD_INCLUDE_DIRS xsimd INTERFACE_INCLUDE_DIRECTORIES)
+  target_include_directories(spatial_batch SYSTEM INTERFACE ${SPATIAL_XSIMD_INCLUDE_DIRS})
+  target_link_libraries(spatial_batch INTERFACE spatial::spatial Threads::Threads)
   target_compile_features(spatial_batch INTERFACE cxx_std_17)
 endif()

@@ -12,8 +12,8 @@
 /// AVX2, 2 with SSE2 or ARM NEON; twice as many floats), and the model is the same model with every number broadcast
 /// to all lanes (`Model::cast`). One call of an algorithm on that model then runs `lanes` states at once, in
 /// structure-of-arrays form: every operation of the scalar code becomes one vector instruction over the lanes, with
-/// no shuffle and no horizontal sum, and the compile-time trees keep their unrolled code. Sines and cosines come from
-/// `xsimd::sincos`. B need not be a multiple of `lanes`: the last group's unused lanes repeat its last state and
+/// no shuffle and no horizontal sum, and the compile-time trees keep their unrolled code. Sines and cosines are the
+/// library's own (sincos.hpp) computed on the lanes. B need not be a multiple of `lanes`: the last group's unused lanes repeat its last state and
 /// their results are dropped. States are split over `threads` threads (a pool of the object's own, started once),
 /// each with its own workspace; a state's result does not depend on B, on the thread count or on the other states
 /// of its group, bit for bit (lanes never mix: a NaN in one state stays in that state).
@@ -28,10 +28,10 @@
 /// -march=native, or -mavx2 -mfma, for wide lanes; the default x86-64 target gets SSE2's two doubles).
 ///
 /// ## Numbers against the single-state calls
-/// The operations are those of the scalar code path, but not bit for bit those of a single-state call: sin and cos
-/// are xsimd's (the single-state path has its own, sincos.hpp), the single-state double calls on compile-time trees
-/// of axis-aligned revolute joints take the AVX2 kernels of simd.hpp (another order of the same sums), and the
-/// compiler contracts multiply-adds into FMAs at different places. They agree to a few units in the last place of
+/// The operations are those of the scalar code path (sines and cosines included), but not bit for bit those of a
+/// single-state call: the single-state double calls on compile-time trees of axis-aligned revolute joints take the
+/// AVX2 kernels of simd.hpp (another order of the same sums), and the compiler contracts multiply-adds into FMAs at
+/// different places in vector and in scalar code. They agree to a few units in the last place of
 /// the result's scale (tests/support/batch_checks.hpp holds them to 1e-13 relative in double, 3e-5 in float).
 ///
 /// ## Cost and limits
@@ -44,7 +44,9 @@
 #include <xsimd/xsimd.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <condition_variable>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
@@ -80,14 +82,69 @@ template <class S>
 using Lanes = xsimd::batch<S>;
 
 namespace detail {
-/// sin and cos of all lanes with one argument reduction (see sincos.hpp's customisation point).
+/// sin and cos of double lanes: sincos.hpp's `sincos_reduce` and `sincos_quadrant` on the batch, every operation
+/// lane-wise (xsimd's own sin and cos pick their argument reduction by testing all lanes, so a lane's result would
+/// depend on the other states of its group); lanes with |x| ≥ kSincosFastLimit, Inf or NaN are redone one by one
+/// through std::sin and std::cos, as in the single-state path.
+template <class A>
+SPATIAL_INLINE void sincos_lanes(const xsimd::batch<double, A>& x, xsimd::batch<double, A>& s,
+                                 xsimd::batch<double, A>& c) {
+  using D = xsimd::batch<double, A>;
+  using U = xsimd::batch<std::uint64_t, A>;
+  D t, sr, cr;
+  sincos_reduce(x, t, sr, cr);
+  U sin_bits, cos_bits;
+  sincos_quadrant(xsimd::bitwise_cast<U>(t), xsimd::bitwise_cast<U>(sr), xsimd::bitwise_cast<U>(cr), sin_bits,
+                  cos_bits);
+  s = xsimd::bitwise_cast<D>(sin_bits);
+  c = xsimd::bitwise_cast<D>(cos_bits);
+  const auto slow = !(xsimd::abs(x) < D(kSincosFastLimit));
+  if (xsimd::any(slow)) {
+    constexpr std::size_t n = D::size;
+    alignas(A::alignment()) double xs[n], ss[n], cs[n];
+    x.store_aligned(xs);
+    s.store_aligned(ss);
+    c.store_aligned(cs);
+    for (std::size_t l = 0; l < n; ++l)
+      if (!(std::abs(xs[l]) < kSincosFastLimit)) {
+        ss[l] = std::sin(xs[l]);
+        cs[l] = std::cos(xs[l]);
+      }
+    s = D::load_aligned(ss);
+    c = D::load_aligned(cs);
+  }
+}
+
+/// sin and cos of all lanes (sincos.hpp's customisation point): double lanes through `sincos_lanes`; float lanes
+/// in double, two halves, then rounded to float, as the single-state float path computes them.
 template <class T, class A>
 struct SincosTraits<xsimd::batch<T, A>> {
   static constexpr bool custom = true;
   static SPATIAL_INLINE void sincos(const xsimd::batch<T, A>& x, xsimd::batch<T, A>& s, xsimd::batch<T, A>& c) {
-    const auto sc = xsimd::sincos(x);
-    s = sc.first;
-    c = sc.second;
+    if constexpr (std::is_same_v<T, double>) {
+      sincos_lanes(x, s, c);
+    } else {
+      static_assert(std::is_same_v<T, float>, "batch.hpp: lanes of float or double");
+      using D = xsimd::batch<double, A>;
+      constexpr std::size_t n = xsimd::batch<T, A>::size, h = D::size;
+      static_assert(n == 2 * h, "a register holds twice as many floats as doubles");
+      alignas(A::alignment()) float xf[n], sf[n], cf[n];
+      alignas(A::alignment()) double xd[n], sd[n], cd[n];
+      x.store_aligned(xf);
+      for (std::size_t l = 0; l < n; ++l) xd[l] = static_cast<double>(xf[l]);
+      for (std::size_t half = 0; half < 2; ++half) {
+        D sh, ch;
+        sincos_lanes(D::load_aligned(xd + half * h), sh, ch);
+        sh.store_aligned(sd + half * h);
+        ch.store_aligned(cd + half * h);
+      }
+      for (std::size_t l = 0; l < n; ++l) {
+        sf[l] = static_cast<float>(sd[l]);
+        cf[l] = static_cast<float>(cd[l]);
+      }
+      s = xsimd::batch<T, A>::load_aligned(sf);
+      c = xsimd::batch<T, A>::load_aligned(cf);
+    }
   }
 };
 
@@ -204,6 +261,16 @@ class Batch {
     work_.reserve(static_cast<std::size_t>(threads));
     for (int t = 0; t < threads; ++t) work_.emplace_back(model_, nv_);
     pool_ = std::make_unique<detail::WorkerPool>(threads);
+    // The non-zero pattern of H: (i, j) with j = i or j an ancestor of i, both triangles, column by column.
+    for (int c = 0; c < nv_; ++c)
+      for (int r = 0; r < nv_; ++r) {
+        bool related = false;
+        for (int a = std::max(r, c); a >= 0 && !related; a = model.parent(a)) related = a == std::min(r, c);
+        if (related) {
+          h_rows_.push_back(r);
+          h_cols_.push_back(c);
+        }
+      }
   }
 
   int nv() const { return nv_; }
@@ -270,9 +337,21 @@ class Batch {
   void crba(const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<Out>& H) {
     detail::check_batch_shape(q, nv_, q.cols(), "crba", "q");
     detail::check_batch_shape(H, nv_, static_cast<long long>(nv_) * q.cols(), "crba", "H");
+    auto& y = const_cast<Eigen::MatrixBase<Out>&>(H);
     each(q.cols(), [&](Work& w, int j0, int m) {
       gather(q, j0, m, w.q);
-      scatter_blocks(spatial::crba(model_, w.data, w.q), j0, m, w.tmp, H);
+      // Only the entries CRBA writes (i an ancestor of j or j of i) leave the lanes; the rest of each state's block
+      // is zero. For the 21-DoF stance model that is 171 of 441 entries, and the copy out of the lanes was half
+      // the cost of a batched CRBA when it moved all of them.
+      const auto& Hl = spatial::crba(model_, w.data, w.q);
+      S* const t = w.tmp.data();
+      const std::size_t nnz = h_rows_.size();
+      for (std::size_t k = 0; k < nnz; ++k) Hl(h_rows_[k], h_cols_[k]).store_unaligned(t + k * lanes);
+      for (int l = 0; l < m; ++l) {
+        auto block = y.middleCols(static_cast<Eigen::Index>(j0 + l) * nv_, nv_);
+        block.setZero();
+        for (std::size_t k = 0; k < nnz; ++k) block(h_rows_[k], h_cols_[k]) = t[k * lanes + static_cast<std::size_t>(l)];
+      }
     });
   }
   /// Placement in base coordinates of fixed frame `frame` (`model.frames()[frame]`) per state: `T` is 3 × (4·B),
@@ -386,6 +465,7 @@ class Batch {
 
   LaneModel model_;
   int nv_;
+  std::vector<int> h_rows_, h_cols_;  ///< the entries of H that CRBA writes (see `crba`)
   std::vector<Work> work_;
   std::unique_ptr<detail::WorkerPool> pool_;
 };

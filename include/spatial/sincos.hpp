@@ -7,6 +7,8 @@
 /// against the C library). Angles with |q| ≥ 10⁵ rad, and scalars other than float and double, go through
 /// std::sin / std::cos.
 
+#include "spatial/algebra.hpp"  // SPATIAL_INLINE
+
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -23,49 +25,63 @@ struct SincosTraits {
   static constexpr bool custom = false;
 };
 
-/// sin and cos of x for |x| < kSincosFastLimit (no branch: suitable for vectorised loops).
-inline void sincos_reduced(double x, double& s_out, double& c_out) {
-  // k = nearest integer to x·2/π, by the 1.5·2⁵² rounding trick (round to nearest, no branch); the low bits of
-  // t's significand then hold k in two's complement.
-  constexpr double two_over_pi = 6.36619772367581382433e-01;
-  constexpr double round_magic = 6755399441055744.0;  // 1.5 · 2⁵²
-  const double t = x * two_over_pi + round_magic;
-  const double kd = t - round_magic;
-  std::uint64_t kbits;
-  std::memcpy(&kbits, &t, sizeof kbits);
+/// The arithmetic of `sincos_reduced`, for T = double or a SIMD batch of doubles (batch.hpp): k = nearest integer
+/// to x·2/π (`kd`, and `t`, whose significand's low bits hold k in two's complement), the reduced argument
+/// r = x − k·π/2 and the polynomials sr ≈ sin r, cr ≈ cos r. What is left to the caller is the quadrant fix-up,
+/// which needs the bits of t (memcpy for double, a bit cast for batches).
+template <class T>
+SPATIAL_INLINE void sincos_reduce(const T& x, T& t, T& sr, T& cr) {
+  // k by the 1.5·2⁵² rounding trick (round to nearest, no branch).
+  const T two_over_pi(6.36619772367581382433e-01);
+  const T round_magic(6755399441055744.0);  // 1.5 · 2⁵²
+  t = x * two_over_pi + round_magic;
+  const T kd = t - round_magic;
   // π/2 = p1 + p2 + p3 + p4, p1, p2 and p3 with 33 significant bits so that k·p1, k·p2 and k·p3 are exact for
   // |k| < 2²⁰; the fourth term keeps the relative accuracy of r when x is close to a multiple of π/2.
-  constexpr double p1 = 1.57079632673412561417e+00;
-  constexpr double p2 = 6.07710050630396597660e-11;
-  constexpr double p3 = 2.02226624871116645580e-21;
-  constexpr double p4 = 8.47842766036889956997e-32;
-  const double r = (((x - kd * p1) - kd * p2) - kd * p3) - kd * p4;
-  const double z = r * r;
+  const T p1(1.57079632673412561417e+00);
+  const T p2(6.07710050630396597660e-11);
+  const T p3(2.02226624871116645580e-21);
+  const T p4(8.47842766036889956997e-32);
+  const T r = (((x - kd * p1) - kd * p2) - kd * p3) - kd * p4;
+  const T z = r * r;
   // sin r = r + r³ (S1 + z S2 + … + z⁵ S6); cos r = 1 − z/2 + z² (C1 + z C2 + … + z⁵ C6)  (minimax on [−π/4, π/4]).
-  const double ps = -1.66666666666666324348e-01 +
-                    z * (8.33333333332248946124e-03 +
-                         z * (-1.98412698298579493134e-04 +
-                              z * (2.75573137070700676789e-06 +
-                                   z * (-2.50507602534068634195e-08 + z * 1.58969099521155010221e-10))));
-  const double pc = 4.16666666666666019037e-02 +
-                    z * (-1.38888888888741095749e-03 +
-                         z * (2.48015872894767294178e-05 +
-                              z * (-2.75573143513906633035e-07 +
-                                   z * (2.08757232129817482790e-09 + z * -1.13596475577881948265e-11))));
-  const double sr = r + r * z * ps;
-  const double hz = 0.5 * z;
-  const double w = 1.0 - hz;
-  const double cr = w + (((1.0 - w) - hz) + z * z * pc);
-  // Quadrant k mod 4: (sin, cos) = (sr, cr), (cr, −sr), (−sr, −cr), (−cr, sr). Selected and signed with bit
-  // operations rather than branches or floating-point comparisons, so that loops over this function vectorise.
-  std::uint64_t sbits, cbits;
+  const T ps = T(-1.66666666666666324348e-01) +
+               z * (T(8.33333333332248946124e-03) +
+                    z * (T(-1.98412698298579493134e-04) +
+                         z * (T(2.75573137070700676789e-06) +
+                              z * (T(-2.50507602534068634195e-08) + z * T(1.58969099521155010221e-10)))));
+  const T pc = T(4.16666666666666019037e-02) +
+               z * (T(-1.38888888888741095749e-03) +
+                    z * (T(2.48015872894767294178e-05) +
+                         z * (T(-2.75573143513906633035e-07) +
+                              z * (T(2.08757232129817482790e-09) + z * T(-1.13596475577881948265e-11)))));
+  sr = r + r * z * ps;
+  const T hz = T(0.5) * z;
+  const T w = T(1.0) - hz;
+  cr = w + (((T(1.0) - w) - hz) + z * z * pc);
+}
+
+/// The quadrant fix-up on the bit patterns (U = std::uint64_t or a batch of them): quadrant k mod 4 gives
+/// (sin, cos) = (sr, cr), (cr, −sr), (−sr, −cr), (−cr, sr). Selected and signed with bit operations rather than
+/// branches or floating-point comparisons, so that loops over it vectorise.
+template <class U>
+SPATIAL_INLINE void sincos_quadrant(const U& kbits, const U& sbits, const U& cbits, U& sin_bits, U& cos_bits) {
+  const U odd = U(0) - (kbits & U(1));  // all ones in quadrants 1 and 3
+  sin_bits = (sbits & ~odd) | (cbits & odd);
+  cos_bits = (cbits & ~odd) | (sbits & odd);
+  sin_bits = sin_bits ^ ((kbits & U(2)) << 62);        // negative in quadrants 2 and 3
+  cos_bits = cos_bits ^ (((kbits + U(1)) & U(2)) << 62);  // negative in quadrants 1 and 2
+}
+
+/// sin and cos of x for |x| < kSincosFastLimit (no branch: suitable for vectorised loops).
+inline void sincos_reduced(double x, double& s_out, double& c_out) {
+  double t, sr, cr;
+  sincos_reduce(x, t, sr, cr);
+  std::uint64_t kbits, sbits, cbits, sin_bits, cos_bits;
+  std::memcpy(&kbits, &t, sizeof kbits);
   std::memcpy(&sbits, &sr, sizeof sbits);
   std::memcpy(&cbits, &cr, sizeof cbits);
-  const std::uint64_t odd = std::uint64_t(0) - (kbits & 1);  // all ones in quadrants 1 and 3
-  std::uint64_t sin_bits = (sbits & ~odd) | (cbits & odd);
-  std::uint64_t cos_bits = (cbits & ~odd) | (sbits & odd);
-  sin_bits ^= (kbits & 2) << 62;        // negative in quadrants 2 and 3
-  cos_bits ^= ((kbits + 1) & 2) << 62;  // negative in quadrants 1 and 2
+  sincos_quadrant(kbits, sbits, cbits, sin_bits, cos_bits);
   std::memcpy(&s_out, &sin_bits, sizeof s_out);
   std::memcpy(&c_out, &cos_bits, sizeof c_out);
 }

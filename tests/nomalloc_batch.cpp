@@ -1,0 +1,59 @@
+// The batched algorithms (batch.hpp) never allocate after construction, on one thread and on two (the worker pool
+// is woken, not started, per call): a run-time tree of every joint type and the compile-time HOAP-3 stance model,
+// double and float, every method, B not a multiple of the lane count. Guards: tests/support/no_allocation.hpp.
+#include <spatial/batch.hpp>
+#include <spatial/models/hoap3_stance_right.hpp>
+
+#include "support/no_allocation.hpp"
+#include "support/random_model.hpp"
+
+#include <gtest/gtest.h>
+
+namespace {
+
+using namespace spatial;
+namespace st = spatial::testing;
+using spatial::testing::NoAllocationRegion;
+
+template <class S, class T>
+void expect_no_allocation(const Model<S, T>& model, int threads) {
+  using M = Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>;
+  Batch<S, T> batch(model, threads);
+  const int n = model.size(), B = 3 * Batch<S, T>::lanes + 1;
+  const M Q = M::Random(n, B), V = M::Random(n, B), A = M::Random(n, B);
+  M tau(n, B), qdd(n, B), H(n, n * B), P(3, 4 * B), J(6, n * B);
+  long news = -1;
+  {
+    NoAllocationRegion guard;
+    batch.rnea(Q, V, A, tau);
+    batch.gravity(Q, tau);
+    batch.bias(Q, V, tau);
+    batch.aba(Q, V, A, qdd);
+    batch.forward_dynamics_crba(Q, V, A, qdd);
+    batch.crba(Q, H);
+    batch.frame_placement(Q, 0, P);
+    batch.frame_jacobian(Q, 0, ReferenceFrame::LocalWorldAligned, J);
+    news = guard.new_calls();
+  }
+  EXPECT_EQ(news, 0) << threads << " thread(s)";
+  EXPECT_TRUE(tau.allFinite() && qdd.allFinite() && H.allFinite() && P.allFinite() && J.allFinite());
+}
+
+TEST(NoMallocBatch, RunTimeTreeOfEveryJointType) {
+  const Model<double> model =
+      st::build_model_with_frames(st::random_bodies(11, st::Shape::Branched, 5, true), 5);
+  for (const int threads : {1, 2}) {
+    expect_no_allocation(model, threads);
+    expect_no_allocation(model.cast<float>(), threads);
+  }
+}
+
+TEST(NoMallocBatch, CompileTimeStanceModel) {
+  const auto model = models::hoap3_stance_right::model();
+  for (const int threads : {1, 2}) {
+    expect_no_allocation(model, threads);
+    expect_no_allocation(model.cast<float>(), threads);
+  }
+}
+
+}  // namespace

@@ -1,0 +1,123 @@
+#pragma once
+// The test cases of the batched algorithms (batch.hpp) against the single-state calls, compiled for the lanes of
+// the including file's target: test_batch.cpp (default x86-64: SSE2, 2 doubles / 4 floats; aarch64: NEON, the same
+// widths) and simd_batch.cpp (-mavx2 -mfma: 4 doubles / 8 floats). Models: the HOAP-3 models (compile-time, and a
+// run-time twin), a compile-time tree of every joint type and random run-time trees of every joint type, double and
+// float; the checks are those of batch_checks.hpp.
+#include <spatial/spatial.hpp>
+
+#include "batch_checks.hpp"
+#include "compile_time_trees.hpp"
+#include "random_model.hpp"
+
+#if SPATIAL_TEST_COMPILE_TIME_TREES
+#include <spatial/models/hoap3_double_pendulum.hpp>
+#include <spatial/models/hoap3_stance_right.hpp>
+#include <spatial/models/hoap3_torso.hpp>
+#endif
+
+#include <gtest/gtest.h>
+
+#include <thread>
+
+namespace {
+
+using namespace spatial;
+using spatial::testing::check_batch;
+
+Model<double> random_tree(int n, spatial::testing::Shape shape, unsigned seed) {
+  return spatial::testing::build_model_with_frames(spatial::testing::random_bodies(n, shape, seed, true), seed);
+}
+
+TEST(Batch, RandomRunTimeChainsOfEveryJointTypeMatchTheSingleStateCalls) {
+  for (const unsigned seed : {11u, 12u}) {
+    const Model<double> model = random_tree(12, spatial::testing::Shape::Chain, seed);
+    check_batch<double>(model, "chain12", seed);
+    check_batch<float>(model, "chain12", seed);
+  }
+}
+
+TEST(Batch, RandomRunTimeBranchedTreesOfEveryJointTypeMatchTheSingleStateCalls) {
+  for (const unsigned seed : {21u, 22u}) {
+    const Model<double> model = random_tree(15, spatial::testing::Shape::Branched, seed);
+    check_batch<double>(model, "branched15", seed);
+    check_batch<float>(model, "branched15", seed);
+  }
+}
+
+TEST(Batch, HoapRunTimeTwinsMatchTheSingleStateCalls) {
+#if SPATIAL_TEST_COMPILE_TIME_TREES
+  check_batch<double>(models::hoap3_stance_right::model().to_runtime(), "stance21 (run time)", 31);
+  check_batch<float>(models::hoap3_stance_right::model().to_runtime(), "stance21 (run time)", 31);
+#else
+  GTEST_SKIP() << "the generated models are compile-time trees (not built in this configuration)";
+#endif
+}
+
+#if SPATIAL_TEST_COMPILE_TIME_TREES
+using J = JointType;
+// 8 bodies, branched, one of every joint type.
+using EveryJoint = Tree<Parents<-1, 0, 1, 1, 0, 4, 5, 2>,
+                        Joints<J::RevoluteX, J::RevoluteY, J::RevoluteZ, J::RevoluteAxis, J::PrismaticX,
+                               J::PrismaticY, J::PrismaticZ, J::PrismaticAxis>>;
+
+TEST(Batch, CompileTimeTreeOfEveryJointTypeMatchesTheSingleStateCalls) {
+  auto bodies = spatial::testing::random_bodies(8, spatial::testing::Shape::Chain, 41, true);
+  for (int i = 0; i < 8; ++i) {
+    auto& b = bodies[static_cast<std::size_t>(i)];
+    b.parent = EveryJoint::parent[static_cast<std::size_t>(i)];
+    b.type = EveryJoint::joint[static_cast<std::size_t>(i)];
+    if (b.type == J::RevoluteX || b.type == J::PrismaticX) b.axis = Vector3<double>::UnitX();
+    if (b.type == J::RevoluteY || b.type == J::PrismaticY) b.axis = Vector3<double>::UnitY();
+    if (b.type == J::RevoluteZ || b.type == J::PrismaticZ) b.axis = Vector3<double>::UnitZ();
+  }
+  const auto model = Model<double, EveryJoint>::from(spatial::testing::build_model_with_frames(bodies, 41));
+  check_batch<double>(model, "every joint (ct)", 41);
+  check_batch<float>(model, "every joint (ct)", 41);
+}
+
+TEST(Batch, HoapCompileTimeModelsMatchTheSingleStateCalls) {
+  check_batch<double>(models::hoap3_stance_right::model(), "stance21", 51);
+  check_batch<float>(models::hoap3_stance_right::model(), "stance21", 51);
+  check_batch<double>(models::hoap3_torso::model(), "torso8", 52);
+  check_batch<float>(models::hoap3_torso::model(), "torso8", 52);
+  check_batch<double>(models::hoap3_double_pendulum::model(), "pendulum2", 53);
+  check_batch<float>(models::hoap3_double_pendulum::model(), "pendulum2", 53);
+}
+#endif
+
+TEST(Batch, ThreadCountAndEmptyBatches) {
+  const Model<double> model = random_tree(5, spatial::testing::Shape::Branched, 61);
+  Batch<double> all(model, 0);
+  EXPECT_EQ(all.threads(), std::max(1, static_cast<int>(std::thread::hardware_concurrency())));
+  Batch<double> three(model, 3);
+  EXPECT_EQ(three.threads(), 3);
+  EXPECT_EQ(three.nv(), 5);
+  // B = 0: nothing to do, nothing written.
+  Eigen::MatrixXd Q(5, 0), tau(5, 0);
+  three.rnea(Q, Q, Q, tau);
+  // Fewer states than threads × lanes: the idle threads leave the results alone, and they are right.
+  std::mt19937 rng(62);
+  const Eigen::MatrixXd Q1 = spatial::testing::random_states<double>(5, 1, rng, 1.0);
+  Eigen::MatrixXd t1(5, 1), t3(5, 1);
+  Batch<double>(model, 1).rnea(Q1, Q1, Q1, t1);
+  three.rnea(Q1, Q1, Q1, t3);
+  EXPECT_TRUE(spatial::testing::same_bits(t1, t3));
+}
+
+TEST(Batch, InputsAsRowMajorMapsAndOutputsAsBlocks) {
+  // The layout a Python or NumPy caller has: B × nv row-major, i.e. a column-major nv × B seen through a map.
+  const Model<double> model = random_tree(6, spatial::testing::Shape::Chain, 71);
+  Batch<double> batch(model, 2);
+  std::mt19937 rng(72);
+  const Eigen::MatrixXd Q = spatial::testing::random_states<double>(6, 9, rng, 1.5);
+  const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> Qt = Q.transpose();
+  Eigen::MatrixXd want(6, 9), big = Eigen::MatrixXd::Constant(8, 12, -3.0);
+  batch.gravity(Q, want);
+  batch.gravity(Qt.transpose(), big.block(1, 2, 6, 9));
+  EXPECT_TRUE(spatial::testing::same_bits(big.block(1, 2, 6, 9), want));
+  EXPECT_EQ(big(0, 0), -3.0);
+  EXPECT_EQ(big(7, 11), -3.0);
+}
+
+}  // namespace
