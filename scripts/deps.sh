@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Installs the Debian packages that building, testing and benchmarking spatial need, and only those missing.
 # Runs apt-get update only when something is missing. Uses sudo only when not already root.
+# g++-aarch64-linux-gnu, libc6-dev-arm64-cross (the target's C library) and qemu-user are for scripts/arm.sh (the unit
+# tests cross-built for aarch64 and run under qemu-aarch64; no binfmt registration needed).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
@@ -19,6 +21,9 @@ packages=(
   libgtest-dev
   libbenchmark-dev
   libxsimd-dev
+  g++-aarch64-linux-gnu
+  libc6-dev-arm64-cross
+  qemu-user
 )
 
 missing=()

@@ -5,10 +5,12 @@
 #      example: scripts/main.sh builds and runs those.
 #   2. The Python package (scripts/python.sh --test): built into build/venv (with Pinocchio's `pin` from
 #      scripts/peers.sh, whose Python API the package is checked against) and its pytest suite (python/tests).
-#   3. Debug build with ASan + UBSan (preset "asan", build-asan/; -g1: line tables only, enough for the sanitizers'
+#   3. ARM (scripts/arm.sh, build-arm/): the portable unit tests cross-built for aarch64 (g++-aarch64-linux-gnu) and
+#      run under qemu-user, Eigen and xsimd on NEON; no URDF, KDL or CLI tests (no urdfdom or KDL for aarch64 here).
+#   4. Debug build with ASan + UBSan (preset "asan", build-asan/; -g1: line tables only, enough for the sanitizers'
 #      stack traces and a fifth less compile time than -g): the unit, AVX2-kernel and stress tests (tests/CMakeLists.txt).
-#   4. The URDF loader's fuzz target (scripts/fuzz.sh, clang + libFuzzer + ASan/UBSan, build-fuzz/) for 60 s.
-# Usage: scripts/test.sh [--quick]    --quick skips steps 3 and 4.
+#   5. The URDF loader's fuzz target (scripts/fuzz.sh, clang + libFuzzer + ASan/UBSan, build-fuzz/) for 60 s.
+# Usage: scripts/test.sh [--quick]    --quick skips steps 3, 4 and 5.
 # JOBS (default 2) sets the parallelism of builds and tests.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
@@ -17,7 +19,7 @@ quick=0
 for arg in "$@"; do
   case "$arg" in
     --quick) quick=1 ;;
-    -h|--help) echo "usage: scripts/test.sh [--quick]   (--quick skips the sanitizer build and the fuzzer)"; exit 0 ;;
+    -h|--help) echo "usage: scripts/test.sh [--quick]   (--quick skips the ARM and sanitizer builds and the fuzzer)"; exit 0 ;;
     *) echo "test.sh: unknown argument '$arg' (try --help)" >&2; exit 2 ;;
   esac
 done
@@ -37,9 +39,13 @@ bash scripts/python.sh --test
 echo "test.sh: Python stage done at ${SECONDS} s"
 
 if [[ $quick -eq 1 ]]; then
-  echo "test.sh: --quick given, sanitizer build and fuzzer skipped"
+  echo "test.sh: --quick given, ARM build, sanitizer build and fuzzer skipped"
   exit 0
 fi
+
+echo "==== ARM (aarch64) cross build, tests under qemu ===="
+JOBS="$jobs" bash scripts/arm.sh
+echo "test.sh: ARM stage done at ${SECONDS} s"
 
 echo "==== sanitizer (ASan + UBSan) build and tests ===="
 cmake --preset asan

@@ -17,7 +17,6 @@
 
 #include <spatial/floating.hpp>
 #include <spatial/spatial.hpp>
-#include <spatial/urdf.hpp>
 #include <spatial/models/hoap3_stance_right.hpp>
 
 #include "support/random_model.hpp"
