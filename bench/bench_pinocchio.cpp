@@ -84,6 +84,21 @@ void register_pinocchio(const BenchModel<TreeT>& entry) {
   const InputPool<double> pool(entry.range);
   auto fx = make_pin_fixture<S>(entry, pool);
   check(entry, *fx, pool);
+#ifdef SPATIAL_PINOCCHIO_BATCH
+  // bench_pinocchio_batch.cpp, beside bench_batch: stance21 and torso8, 10000 states (the first 256: `pool`'s)
+  if constexpr (std::is_same_v<S, double> && !std::is_same_v<TreeT, Pendulum2Tree>) {
+    const InputPool<double> big(entry.range, 10000);
+    const Eigen::Index n = entry.model.size();
+    Eigen::MatrixXd q(n, big.size()), v(n, big.size()), u(n, big.size());
+    for (int k = 0; k < big.size(); ++k) {
+      const auto s = static_cast<std::size_t>(k);
+      q.col(k) = fx->peer.to_pinocchio(big.q[s]);
+      v.col(k) = fx->peer.to_pinocchio(big.qd[s]);
+      u.col(k) = fx->peer.to_pinocchio(big.u[s]);
+    }
+    register_pinocchio_batch(entry.name, fx->peer.model, std::move(q), std::move(v), std::move(u));
+  }
+#endif
 
   using Fx = PinFixture<S>;
   const auto reg = [&](const char* algorithm, auto body) {
@@ -112,6 +127,23 @@ void register_pinocchio(const BenchModel<TreeT>& entry) {
   });
 }
 
+}  // namespace
+
+namespace spatial::bench {
+const Eigen::VectorXd& pinocchio_rnea(const pinocchio::Model& m, pinocchio::Data& d, const Eigen::VectorXd& q,
+                                      const Eigen::VectorXd& v, const Eigen::VectorXd& a) {
+  return pinocchio::rnea(m, d, q, v, a);
+}
+const Eigen::VectorXd& pinocchio_aba(const pinocchio::Model& m, pinocchio::Data& d, const Eigen::VectorXd& q,
+                                     const Eigen::VectorXd& v, const Eigen::VectorXd& tau) {
+  return pinocchio::aba(m, d, q, v, tau);
+}
+const Eigen::MatrixXd& pinocchio_crba(const pinocchio::Model& m, pinocchio::Data& d, const Eigen::VectorXd& q) {
+  return pinocchio::crba(m, d, q);
+}
+}  // namespace spatial::bench
+
+namespace {
 const bool registered = [] {
   benchmark::AddCustomContext("pinocchio_version", PINOCCHIO_VERSION);
   benchmark::AddCustomContext("spatial_eigen", std::to_string(EIGEN_WORLD_VERSION) + "." +

@@ -10,6 +10,9 @@
 //    (RNEA_derivatives), by forward differences (RNEA_derivatives_fd, step √ε) and by central differences
 //    (RNEA_derivatives_central, step ∛ε), and in double by forward-mode automatic differentiation
 //    (RNEA_derivatives_ad, tests/support/autodiff.hpp), all against the analytical derivatives in long double.
+//    With spatial::batch (SPATIAL_ERROR_STUDY_BATCH), also the batched algorithms ("<algorithm>_batch": RNEA,
+//    GravityTorques, BiasForces, CRBA, FD_CRBA_LTDL, ABA over the same states in one call of spatial::Batch, run-time
+//    tree, one thread), in float and double: the points of the batched variants in the run-time-against-error chart.
 // 2. Simulation: integrators (semi-implicit Euler, explicit midpoint RK2, classic RK4) at several step sizes on the
 //    21-body model over 1 s of simulated time, from a random state, with τ = −D q̇ (light joint damping) and forward
 //    dynamics by ABA in double. Error = max |q(1 s) − q_ref(1 s)| against RK4 in long double with a step 4× finer than
@@ -25,6 +28,9 @@
 #include "support/integrators.hpp"
 #ifdef SPATIAL_ERROR_STUDY_SCENES
 #include "error_study_scenes.hpp"
+#endif
+#ifdef SPATIAL_ERROR_STUDY_BATCH
+#include <spatial/batch.hpp>
 #endif
 
 #include <algorithm>
@@ -138,6 +144,42 @@ void study_scalar(const BenchModel<TreeT>& entry, const InputPool<double>& pool,
     std::sort(errors.begin(), errors.end());
     out.push_back({entry.name, algorithm, scalar_name<S>(), errors.back(), errors[errors.size() / 2]});
   }
+#ifdef SPATIAL_ERROR_STUDY_BATCH
+  {
+    // The batched algorithms (spatial::Batch, one state per SIMD lane; bench_batch times them), "<algorithm>_batch":
+    // the same kSamples states in one call, against the same long-double references.
+    using Ms = Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>;
+    const int n = runtime.size(), B = std::min(kSamples, pool.size());
+    Batch<S> batch(runtime.template cast<S>(), 1);
+    Ms Q(n, B), V(n, B), U(n, B), Y(n, B), H(n, n * B);
+    for (int k = 0; k < B; ++k) {
+      const auto s = static_cast<std::size_t>(k);
+      Q.col(k) = pool.q[s].cast<S>();
+      V.col(k) = pool.qd[s].cast<S>();
+      U.col(k) = pool.u[s].cast<S>();
+    }
+    for (const char* algorithm : {"RNEA", "GravityTorques", "BiasForces", "CRBA", "FD_CRBA_LTDL", "ABA"}) {
+      const std::string a = algorithm;
+      if (a == "RNEA") batch.rnea(Q, V, U, Y);
+      else if (a == "GravityTorques") batch.gravity(Q, Y);
+      else if (a == "BiasForces") batch.bias(Q, V, Y);
+      else if (a == "CRBA") batch.crba(Q, H);
+      else if (a == "FD_CRBA_LTDL") batch.forward_dynamics_crba(Q, V, U, Y);
+      else batch.aba(Q, V, U, Y);
+      std::vector<double> errors;
+      for (int k = 0; k < B; ++k) {
+        const auto s = static_cast<std::size_t>(k);
+        const Vd ql = pool.q[s].cast<long double>(), qdl = pool.qd[s].cast<long double>(),
+                 ul = pool.u[s].cast<long double>();
+        const auto y_ref = ref.run(a, ql, qdl, ul);
+        errors.push_back(a == "CRBA" ? static_cast<double>(rel_error(Ms(H.middleCols(k * n, n)), y_ref))
+                                     : static_cast<double>(rel_error(Ms(Y.col(k)), y_ref)));
+      }
+      std::sort(errors.begin(), errors.end());
+      out.push_back({entry.name, a + "_batch", scalar_name<S>(), errors.back(), errors[errors.size() / 2]});
+    }
+  }
+#endif
   if constexpr (std::is_same_v<S, double>) {
     // Automatic differentiation (double duals): the same [∂τ/∂q ∂τ/∂q̇].
     std::vector<double> errors;

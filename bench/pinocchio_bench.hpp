@@ -5,6 +5,9 @@
 ///   bench_pinocchio.cpp              the fixed-base algorithms on every bench model, and main
 ///   bench_pinocchio_derivatives.cpp  the derivatives of RNEA and ABA and H⁻¹, on every bench model and floating27
 ///   bench_pinocchio_floating.cpp     floating27: dynamics, Jacobians, centre of mass, centroidal, contacts
+///   bench_pinocchio_batch.cpp        Pinocchio's batch API (rneaInParallel's OpenMP loop) on stance21 and torso8,
+///                                    beside bench_batch (issue 15); only where CMake found OpenMP
+///                                    (SPATIAL_PINOCCHIO_BATCH)
 /// In one file they took ~10 CPU minutes with GCC 12 at -O3 (most of it instantiating templates, ours and
 /// Pinocchio's) and ended every build alone on one core; in three, they build side by side. Each part checks its
 /// results against spatial's before any timing and aborts on a mismatch (peers/peer_check.hpp).
@@ -97,5 +100,18 @@ void register_pinocchio_call(const std::shared_ptr<Fx>& fx, const std::string& m
     for (auto _ : st) body(f, static_cast<std::size_t>(f.take()));
   });
 }
+
+/// bench_pinocchio.cpp's instantiations of Pinocchio's single-state rnea, aba and crba (on VectorXd, as its
+/// benchmarks call them), for bench_pinocchio_batch.cpp's loops: one instantiation of each in the binary.
+const Eigen::VectorXd& pinocchio_rnea(const pinocchio::Model& m, pinocchio::Data& d, const Eigen::VectorXd& q,
+                                      const Eigen::VectorXd& v, const Eigen::VectorXd& a);
+const Eigen::VectorXd& pinocchio_aba(const pinocchio::Model& m, pinocchio::Data& d, const Eigen::VectorXd& q,
+                                     const Eigen::VectorXd& v, const Eigen::VectorXd& tau);
+const Eigen::MatrixXd& pinocchio_crba(const pinocchio::Model& m, pinocchio::Data& d, const Eigen::VectorXd& q);
+
+/// bench_pinocchio_batch.cpp: registers Pinocchio's batched RNEA, ABA and CRBA on `m` over the states q, v, u
+/// (Pinocchio's joint order, one column per state, ≥ 10000 columns) after checking them against the single-state calls.
+void register_pinocchio_batch(const std::string& model, const pinocchio::Model& m, Eigen::MatrixXd q,
+                              Eigen::MatrixXd v, Eigen::MatrixXd u);
 
 }  // namespace spatial::bench

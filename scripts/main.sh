@@ -9,7 +9,9 @@
 #      unrolled trees cost ~3 CPU minutes per compiler and which no target asks of a second compiler. Tests are
 #      not built here (scripts/test.sh does that).
 #   3. Runs the benchmark binaries of each build (Google Benchmark, repetitions with medians) and the error study,
-#      writing JSON to build/report/raw/<compiler>/.
+#      writing JSON to build/report/raw/<compiler>/. Among them (first compiler only, not in $COMPARED_BENCHES)
+#      bench_batch, the batched algorithms of issue 15 on 1 and all cores; Pinocchio's batch API runs inside
+#      bench_pinocchio where the compiler has OpenMP (g++; clang without libomp-dev skips that part).
 #   4. The reference study's scenes: `spatial-dyn scene all` (first compiler's build) into build/report/scenes/,
 #      plotted by tools/plot_scenes.py (skipped without matplotlib).
 #   5. The iLQR example of the derivatives (`spatial-ilqr`, first compiler's build) into build/report/ilqr/, plotted

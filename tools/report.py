@@ -163,16 +163,44 @@ def to_ns(value, unit):
     return value * {"ns": 1.0, "us": 1e3, "ms": 1e6, "s": 1e9}[unit]
 
 
+BATCH_RE = re.compile(r"^batch:(\d+)$")
+THREADS_RE = re.compile(r"^threads:(\d+)$")
+
+
+def batch_key(parts):
+    """(impl, algorithm, model, scalar, tree, batch, threads) of a batched benchmark's name
+    "<impl>/<algorithm>_batch/<model>/<scalar>/<tree>/batch:<B>/threads:<T>[/process_time][/real_time]" (bench_batch,
+    bench_pinocchio_batch.cpp), else None."""
+    if len(parts) < 7 or not parts[1].endswith("_batch"):
+        return None
+    b, t = BATCH_RE.match(parts[5]), THREADS_RE.match(parts[6])
+    if not b or not t:
+        return None
+    return tuple(parts[:5]) + (int(b.group(1)), int(t.group(1)))
+
+
 def read_benchmark_file(path, time_kind):
-    """Returns (context, {(impl, algorithm, model, scalar, tree): ns})."""
+    """Returns (context, {(impl, algorithm, model, scalar, tree): ns}, {batch key: {"cpu": ns, "real": ns}}) with the
+    times per call (per batch for the batched benchmarks, see batch_key)."""
     with open(path) as f:
         data = json.load(f)
     key_time = "cpu_time" if time_kind == "cpu" else "real_time"
     medians, singles = {}, {}
+    batch_medians, batch_singles = {}, {}
     for b in data.get("benchmarks", []):
         run_name = b.get("run_name", b["name"])
         parts = run_name.split("/")
         if len(parts) < 5:
+            continue
+        bkey = batch_key(parts)
+        if bkey:
+            unit = b.get("time_unit", "ns")
+            both = {"cpu": to_ns(b["cpu_time"], unit), "real": to_ns(b["real_time"], unit)}
+            if b.get("run_type") == "aggregate":
+                if b.get("aggregate_name") == "median":
+                    batch_medians[bkey] = both
+            else:
+                batch_singles.setdefault(bkey, []).append(both)
             continue
         key = tuple(parts[:5])
         ns = to_ns(b[key_time], b.get("time_unit", "ns"))
@@ -186,7 +214,11 @@ def read_benchmark_file(path, time_kind):
         if key not in times:
             values = sorted(values)
             times[key] = values[len(values) // 2]
-    return data.get("context", {}), times
+    batch_times = dict(batch_medians)
+    for key, values in batch_singles.items():
+        if key not in batch_times:
+            batch_times[key] = {k: sorted(v[k] for v in values)[len(values) // 2] for k in ("cpu", "real")}
+    return data.get("context", {}), times, batch_times
 
 
 def read_inputs(input_dir, time_kind):
@@ -197,7 +229,7 @@ def read_inputs(input_dir, time_kind):
         cdir = os.path.join(input_dir, compiler)
         if not os.path.isdir(cdir):
             continue
-        entry = {"times": {}, "contexts": {}, "error": None}
+        entry = {"times": {}, "batch_times": {}, "contexts": {}, "error": None}
         for name in sorted(os.listdir(cdir)):
             path = os.path.join(cdir, name)
             if not name.endswith(".json"):
@@ -207,12 +239,13 @@ def read_inputs(input_dir, time_kind):
                     with open(path) as f:
                         entry["error"] = json.load(f)
                 else:
-                    context, times = read_benchmark_file(path, time_kind)
+                    context, times, batch_times = read_benchmark_file(path, time_kind)
                     entry["contexts"][name[:-5]] = context
                     entry["times"].update(times)
+                    entry["batch_times"].update(batch_times)
             except (OSError, ValueError, KeyError) as e:
                 print(f"report.py: skipping {path}: {e}", file=sys.stderr)
-        if entry["times"] or entry["error"]:
+        if entry["times"] or entry["batch_times"] or entry["error"]:
             compilers[compiler] = entry
     # gcc before clang, then the rest alphabetically
     order = {"gcc": 0, "clang": 1}
@@ -375,6 +408,179 @@ def build(compilers, time_kind):
     return records
 
 
+def build_batch(compilers, time_kind, records):
+    """summary.json records of the batched benchmarks (issue 15), one per compiler, model, algorithm, scalar, tree,
+    batch size and thread count: "ns" = time per state. On one thread the time is `time_kind`'s (CPU time by default);
+    on several, wall time (the CPU time of one thread would miss the others' work, that of the process would not be a
+    throughput). Scaling = wall time per state on one thread ÷ on T threads, same run."""
+    out = []
+    for compiler, entry in compilers.items():
+        bt = entry.get("batch_times", {})
+        errors = {}
+        if entry["error"]:
+            for p in entry["error"].get("algorithms", []):
+                errors[(p["model"], p["algorithm"], p["scalar"])] = (p.get("max_rel_error"), p.get("median_rel_error"))
+
+        def per_state(key):
+            t = bt.get(key)
+            if not t:
+                return None, None, None
+            b, threads = key[5], key[6]
+            ns = (t[time_kind] if threads == 1 else t["real"]) / b
+            return ns, t["real"] / b, t["cpu"] / b
+
+        for key in bt:
+            impl, algorithm, model, scalar, tree, b, threads = key
+            if impl != "spatial":
+                continue
+            ns, wall, cpu = per_state(key)
+            _, one_wall, one_cpu = per_state(key[:6] + (1,))
+            pin_key = ("pinocchio", algorithm, model, scalar, "-", b, threads)
+            pin_ns, pin_wall, _ = per_state(pin_key)
+            pin_one_wall = per_state(pin_key[:6] + (1,))[1]
+            base = algorithm[:-len("_batch")]
+            single = find(records, compiler=compiler, model=model, algorithm=base, scalar=scalar, tree=tree)
+            err = errors.get((model, algorithm, scalar), (None, None))
+            out.append({
+                "compiler": compiler,
+                "model": model,
+                "algorithm": algorithm,
+                "scalar": scalar,
+                "tree": tree,
+                "batch": b,
+                "threads": threads,
+                "ns": ns,
+                "wall_ns": wall,
+                "process_cpu_ns": cpu,
+                "states_per_second": 1e9 / ns if ns else None,
+                "states_per_second_per_core": 1e9 / ns / threads if ns else None,
+                "scaling": ratio(one_wall, wall) if threads > 1 else None,
+                # CPU time of the process ÷ wall time: the cores the run obtained (below `threads` when other
+                # processes ran on the machine), and the scaling that the CPU work per state would give on
+                # `threads` free cores (threads × CPU per state on one thread ÷ on `threads`)
+                "cores_used": ratio(cpu, wall),
+                "scaling_on_free_cores": threads * ratio(one_cpu, cpu) if threads > 1 and ratio(one_cpu, cpu)
+                else None,
+                "pinocchio_ns": pin_ns,
+                "ratio_to_pinocchio": ratio(ns, pin_ns),
+                "pinocchio_scaling": ratio(pin_one_wall, pin_wall) if threads > 1 else None,
+                "single_state_ns": single["ns"] if single else None,
+                "speedup_over_single_state": ratio(single["ns"] if single else None, ns),
+                "max_rel_error": err[0],
+                "median_rel_error": err[1],
+                "kind": "batch",
+                "time": time_kind if threads == 1 else "real",
+            })
+    out.sort(key=lambda r: (r["compiler"], r["model"] != TARGET_MODEL, r["model"],
+                            algorithm_sort_key(r["algorithm"][:-len("_batch")]), r["scalar"] != "double",
+                            r["tree"] != "static", r["batch"], r["threads"]))
+    return out
+
+
+# Targets of issue 15 on stance21, compile-time tree, B = BATCH_TARGET_B (inputs and outputs in cache): time per
+# state on one thread, and the throughput's scaling on all cores (the machine's 2).
+BATCH_TARGET_B = 1024
+BATCH_TARGETS = [
+    ("batched RNEA, double, one core", "RNEA_batch", "double", 200.0),
+    ("batched RNEA, float, one core", "RNEA_batch", "float", 100.0),
+    ("batched ABA, double, one core", "ABA_batch", "double", 500.0),
+    ("batched CRBA, double, one core", "CRBA_batch", "double", 350.0),
+]
+BATCH_SCALING_TARGET = 1.8
+BATCH_SCALING_ALGORITHMS = ("RNEA_batch", "CRBA_batch", "ABA_batch")
+
+
+def batch_target_rows(batch_records, compilers):
+    rows = []
+    for title, algorithm, scalar, target in BATCH_TARGETS:
+        for c in compilers:
+            for b in sorted({r["batch"] for r in batch_records}):
+                r = find(batch_records, compiler=c, model=TARGET_MODEL, algorithm=algorithm, scalar=scalar,
+                         tree="static", batch=b, threads=1)
+                if not r or r["ns"] is None:
+                    continue
+                ok = r["ns"] <= target
+                gap = "–" if ok else f"{r['ns'] / target:.3g}× too slow: needs {(1 - target / r['ns']) * 100:.2g}% less time"
+                rows.append([title, c, b, f"≤ {fmt_ns(target)}", fmt_ns(r["ns"]), "pass" if ok else "miss", gap])
+    for algorithm in BATCH_SCALING_ALGORITHMS:
+        for c in compilers:
+            for b in sorted({r["batch"] for r in batch_records}):
+                r = next((r for r in batch_records if r["compiler"] == c and r["model"] == TARGET_MODEL
+                          and r["algorithm"] == algorithm and r["scalar"] == "double" and r["tree"] == "static"
+                          and r["batch"] == b and r["threads"] > 1), None)
+                if not r or r["scaling"] is None:
+                    continue
+                ok = r["scaling"] >= BATCH_SCALING_TARGET
+                note = ""
+                if not ok and r["cores_used"] is not None and r["cores_used"] < 0.9 * r["threads"]:
+                    note = (f"; the run obtained {r['cores_used']:.2f} of {r['threads']} cores (other processes): "
+                            f"{r['scaling_on_free_cores']:.2f}× on free cores by its CPU time per state"
+                            if r["scaling_on_free_cores"] else "")
+                rows.append([f"{algorithm.replace('_batch', '')} throughput on {r['threads']} threads ÷ on 1 (double)",
+                             c, b, f"≥ {BATCH_SCALING_TARGET}×", f"{r['scaling']:.2f}×", "pass" if ok else "miss",
+                             ("–" if ok else f"{BATCH_SCALING_TARGET / r['scaling']:.3g}× short") + note])
+    return ["target", "compiler", "B", "target", "measured", "pass/miss", "gap"], rows
+
+
+def batch_section(w, batch_records, compilers):
+    """The batched algorithms of issue 15 (bench_batch, and Pinocchio's batch API from bench_pinocchio)."""
+    if not batch_records:
+        return
+    w("## Batched algorithms (issue 15)")
+    w("")
+    w("`spatial::Batch` (include/spatial/batch.hpp): B states per call, each SIMD lane one state (xsimd; lanes per "
+      "register in the machine table's build: see `spatial_batch_lanes_*` in bench_batch's JSON context), over its "
+      "own worker pool. Time per state = time of one call ÷ B: on one thread the median CPU time, on several the "
+      "median wall time (the run's throughput). Scaling = wall time per state on one thread ÷ on all threads, same "
+      "run. bench_batch compares every batched result with the single-state call on the same state before timing "
+      "(≤ 1e-12 relative in double, ≤ 1e-4 in float). Pinocchio: its batch API (`rneaInParallel`, `abaInParallel`: "
+      "an OpenMP loop over its single-state calls, one model and data per thread; bench/bench_pinocchio_batch.cpp "
+      "says how it is run; CRBA: the same loop over `crba`, Pinocchio having no batch call for it) on the same "
+      "states and cores. Single state: bench_algorithms' time per call of the same algorithm, model, scalar and tree.")
+    w("")
+    header, rows = batch_target_rows(batch_records, compilers)
+    w(f"Targets ({TARGET_MODEL}, compile-time tree; time per state on one thread, scaling on all threads; every "
+      "B measured: 1024 keeps inputs and τ or q̈ in cache, 10000 does not; CRBA also at 128, where H of every "
+      "state (nv × nv each) still fits in L2). Where the scaling falls short while the run obtained fewer cores "
+      "than threads (process CPU time ÷ wall time), the gap column says so and what the CPU time per state "
+      "implies on free cores: then the machine, not the algorithm, limited the run.")
+    w("")
+    w(md_table(header, rows))
+    w("")
+    rows = []
+    for r in batch_records:
+        single = r["single_state_ns"]
+        rows.append([r["compiler"], r["model"], r["algorithm"], r["scalar"], r["tree"], r["batch"], r["threads"],
+                     fmt_ns(r["ns"]), f"{r['states_per_second'] / 1e6:.3g} M" if r["states_per_second"] else "–",
+                     f"{r['states_per_second_per_core'] / 1e6:.3g} M" if r["states_per_second_per_core"] else "–",
+                     f"{r['scaling']:.2f}×" if r["scaling"] else "–",
+                     f"{r['cores_used']:.2f}" if r["cores_used"] else "–", fmt_ns(r["pinocchio_ns"]),
+                     fmt_ratio(r["ratio_to_pinocchio"]),
+                     f"{r['pinocchio_scaling']:.2f}×" if r["pinocchio_scaling"] else "–", fmt_ns(single),
+                     f"{r['speedup_over_single_state']:.2f}×" if r["speedup_over_single_state"] else "–"])
+    w("Every batched benchmark (time per state; states per second in total and per core):")
+    w("")
+    w(md_table(["compiler", "model", "algorithm", "scalar", "tree", "B", "threads", "time per state", "states/s",
+                "states/s per core", "scaling", "cores obtained", "Pinocchio per state", "÷ Pinocchio", "Pinocchio scaling",
+                "single-state call", "single ÷ batched"], rows))
+    w("")
+    frows = []
+    for r in batch_records:
+        if r["scalar"] != "float" or r["threads"] != 1:
+            continue
+        d = find(batch_records, compiler=r["compiler"], model=r["model"], algorithm=r["algorithm"], scalar="double",
+                 tree=r["tree"], batch=r["batch"], threads=r["threads"])
+        if d and d["ns"] and r["ns"]:
+            frows.append([r["compiler"], r["model"], r["algorithm"], r["tree"], r["batch"], r["threads"],
+                          f"{d['ns'] / r['ns']:.2f}×"])
+    if frows:
+        w("float against double on one thread (issue 15: ≈ 2×, twice the lanes): double's time per state ÷ "
+          "float's.")
+        w("")
+        w(md_table(["compiler", "model", "algorithm", "tree", "B", "threads", "double ÷ float"], frows))
+        w("")
+
+
 def find(records, **kw):
     for r in records:
         if all(r.get(k) == v for k, v in kw.items()):
@@ -438,7 +644,7 @@ def target_rows(records, compilers, have_pinocchio, targets=None, model=None):
     return ["target", "compiler", "target ratio", "measured ratio", "pass/miss", "gap"], rows
 
 
-def write_charts(out_dir, records, compilers, notes):
+def write_charts(out_dir, records, compilers, notes, batch_records=()):
     try:
         import matplotlib
         matplotlib.use("Agg")
@@ -507,12 +713,14 @@ def write_charts(out_dir, records, compilers, notes):
         ax.set_ylabel("max relative error of the resultant force")
         ax.set_title(f"step: resultant force, full vs reduced vs pendulum ({c})", fontsize=9)
     for col, c in enumerate(compilers):
-        pts = variant_points(records, c)
+        pts = variant_points(records, c, batch_records)
         ax = axes[0][col]
         if pts:
             front = grouped_pareto(pts)
             for i, (x, y, label, scalar, group) in enumerate(pts):
-                ax.scatter([x], [y], marker="o" if scalar == "double" else "^",
+                batched = "_batch" in label
+                ax.scatter([x], [y], marker=("s" if scalar == "double" else "D") if batched else
+                           ("o" if scalar == "double" else "^"),
                            color="tab:red" if group == "forward dynamics" else
                            ("tab:blue" if scalar == "double" else "tab:orange"), zorder=3)
                 ax.annotate(label, (x, y), fontsize=6, xytext=(3, 3), textcoords="offset points")
@@ -527,7 +735,8 @@ def write_charts(out_dir, records, compilers, notes):
         ax.set_yscale("log")
         ax.set_xlabel("median time per call [ns]")
         ax.set_ylabel("max relative error vs long double")
-        ax.set_title(f"{TARGET_MODEL}: variants per call ({c}; ○ double, △ float, red: forward dynamics)")
+        ax.set_title(f"{TARGET_MODEL}: variants ({c}; ○ double, △ float, □ ◇ batched, per state; red: FD)",
+                     fontsize=9)
         ax.legend(fontsize=7)
         ax = axes[1][col]
         sim = simulation_points(compilers[c])
@@ -585,9 +794,16 @@ def write_charts(out_dir, records, compilers, notes):
     return charts
 
 
-def variant_points(records, compiler):
-    """(time, error, label, scalar, group) for every algorithm variant of the target model that has both."""
+def variant_points(records, compiler, batch_records=()):
+    """(time, error, label, scalar, group) for every algorithm variant of the target model that has both; with
+    batch_records, also the batched variants (time per state on one thread at B = BATCH_TARGET_B, compile-time tree;
+    error of the batched call, error study), competing with the single-state calls of the same result."""
     pts = []
+    for r in batch_records:
+        if (r["compiler"] == compiler and r["model"] == TARGET_MODEL and r["tree"] == "static" and r["threads"] == 1
+                and r["batch"] == BATCH_TARGET_B and r["ns"] and r["max_rel_error"]):
+            pts.append((r["ns"], r["max_rel_error"], f"{r['algorithm']} {r['scalar']} (per state)", r["scalar"],
+                        result_group(r["algorithm"][:-len("_batch")])))
     for r in records:
         # The AD derivatives run on the run-time twin in dual numbers (there is no compile-time tree in duals).
         if (r["compiler"] == compiler and r["model"] == TARGET_MODEL
@@ -902,7 +1118,8 @@ def write_report(out_dir, compilers, records, time_kind, charts_enabled=True, sc
     machine = machine_info()
     have_pinocchio = {c: any(k[0] == "pinocchio" for k in e["times"]) for c, e in compilers.items()}
     have_kdl = {c: any(k[0] == "kdl" for k in e["times"]) for c, e in compilers.items()}
-    charts = write_charts(out_dir, records, compilers, notes) if charts_enabled else []
+    batch_records = build_batch(compilers, time_kind, records)
+    charts = write_charts(out_dir, records, compilers, notes, batch_records) if charts_enabled else []
 
     lines = []
     w = lines.append
@@ -1061,6 +1278,8 @@ def write_report(out_dir, compilers, records, time_kind, charts_enabled=True, sc
         w(md_table(["compiler", "method", "scalar", "time per call", "max rel. error", "median rel. error"], arows))
         w("")
 
+    batch_section(w, batch_records, compiler_list)
+
     w("## Reference rows")
     w("")
     rows = []
@@ -1158,10 +1377,12 @@ def write_report(out_dir, compilers, records, time_kind, charts_enabled=True, sc
     w("One point per variant: x = median time per call (compile-time tree), y = max relative error. "
       "★ = on the Pareto front of its result: no other variant computing the same result is both faster and more "
       "accurate. The three forward dynamics (ABA, CRBA + tree LTDL, CRBA + dense Cholesky; float and double) "
-      "compete with each other; every other algorithm competes with itself in the other scalar type.")
+      "compete with each other; every other algorithm competes with itself in the other scalar type. Batched "
+      f"variants (`…_batch`, issue 15): time per state on one thread at B = {BATCH_TARGET_B}, compile-time tree, "
+      "error of the batched call (error study), competing with the single-state calls of the same result.")
     w("")
     for c in compiler_list:
-        pts = variant_points(records, c)
+        pts = variant_points(records, c, batch_records)
         if not pts:
             continue
         front = grouped_pareto(pts)
@@ -1287,7 +1508,7 @@ def write_report(out_dir, compilers, records, time_kind, charts_enabled=True, sc
     with open(os.path.join(out_dir, "report.md"), "w") as f:
         f.write("\n".join(lines))
     with open(os.path.join(out_dir, "summary.json"), "w") as f:
-        json.dump(records + ([walking] if walking else []), f, indent=1)
+        json.dump(records + batch_records + ([walking] if walking else []), f, indent=1)
     return notes
 
 
@@ -1320,6 +1541,11 @@ def main():
     for model in (TARGET_MODEL, FLOATING_MODEL):
         header, rows = target_rows(records, list(compilers), have_pinocchio, DERIVATIVE_TARGETS, model)
         print(f"\nDerivative targets (issue 13, {model})\n")
+        print(text_table(header, rows))
+    batch_records = build_batch(compilers, args.time, records)
+    if batch_records:
+        header, rows = batch_target_rows(batch_records, list(compilers))
+        print(f"\nBatched targets (issue 15, {TARGET_MODEL}, compile-time tree, time per state)\n")
         print(text_table(header, rows))
     print(f"\nreport.py: wrote {os.path.join(args.output, 'report.md')}, summary.json and charts")
 
