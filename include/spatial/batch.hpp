@@ -44,6 +44,7 @@
 #include <xsimd/xsimd.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <condition_variable>
 #include <cstdint>
@@ -149,9 +150,15 @@ struct SincosTraits<xsimd::batch<T, A>> {
 };
 
 /// A fixed set of worker threads that run one function on task indices 0 … T−1 (the caller runs task 0): started
-/// once, woken per call, no allocation per call.
+/// once, woken per call, no allocation per call. After a call a worker polls the call counter kSpin times, yielding
+/// its core between polls (a millisecond or so), before it sleeps on a condition variable, so that calls in quick
+/// succession (a batch of 10³ states takes a few hundred microseconds) do not pay the scheduler's wake-up latency
+/// each time (on 2 cores it cut 2-thread RNEA on 1024 states from 1.4× to ~2× the 1-thread throughput); the caller
+/// polls likewise before it sleeps until the others are done.
 class WorkerPool {
  public:
+  static constexpr int kSpin = 1 << 12;
+
   explicit WorkerPool(int threads) {
     for (int t = 1; t < threads; ++t) workers_.emplace_back([this, t] { loop(t); });
   }
@@ -160,8 +167,8 @@ class WorkerPool {
   ~WorkerPool() {
     {
       std::lock_guard<std::mutex> lock(mutex_);
-      stop_ = true;
-      ++generation_;
+      stop_.store(true, std::memory_order_relaxed);
+      generation_.fetch_add(1, std::memory_order_release);
     }
     wake_.notify_all();
     for (auto& w : workers_) w.join();
@@ -175,47 +182,50 @@ class WorkerPool {
       f(0);
       return;
     }
+    call_ = [](void* ctx, int t) { (*static_cast<F*>(ctx))(t); };
+    ctx_ = &f;
+    tasks_ = tasks;
+    pending_.store(static_cast<int>(workers_.size()), std::memory_order_relaxed);
     {
       std::lock_guard<std::mutex> lock(mutex_);
-      call_ = [](void* ctx, int t) { (*static_cast<F*>(ctx))(t); };
-      ctx_ = &f;
-      tasks_ = tasks;
-      pending_ = static_cast<int>(workers_.size());
-      ++generation_;
+      generation_.fetch_add(1, std::memory_order_release);  // publishes call_, ctx_, tasks_ and pending_
     }
     wake_.notify_all();
     f(0);
+    for (int i = 0; i < kSpin; ++i)
+      if (pending_.load(std::memory_order_acquire) == 0) return;
     std::unique_lock<std::mutex> lock(mutex_);
-    done_.wait(lock, [this] { return pending_ == 0; });
+    done_.wait(lock, [this] { return pending_.load(std::memory_order_acquire) == 0; });
   }
 
  private:
   void loop(int t) {
     unsigned long long seen = 0;
-    std::unique_lock<std::mutex> lock(mutex_);
     for (;;) {
-      wake_.wait(lock, [&] { return generation_ != seen; });
-      seen = generation_;
-      if (stop_) return;
-      const auto call = call_;
-      void* const ctx = ctx_;
-      const bool mine = t < tasks_;
-      lock.unlock();
-      if (mine) call(ctx, t);
-      lock.lock();
-      if (--pending_ == 0) done_.notify_one();
+      for (int i = 0; i < kSpin && generation_.load(std::memory_order_acquire) == seen; ++i) std::this_thread::yield();
+      if (generation_.load(std::memory_order_acquire) == seen) {
+        std::unique_lock<std::mutex> lock(mutex_);
+        wake_.wait(lock, [&] { return generation_.load(std::memory_order_acquire) != seen; });
+      }
+      seen = generation_.load(std::memory_order_acquire);
+      if (stop_.load(std::memory_order_relaxed)) return;
+      if (t < tasks_) call_(ctx_, t);
+      if (pending_.fetch_sub(1, std::memory_order_acq_rel) == 1) {
+        std::lock_guard<std::mutex> lock(mutex_);  // so that the caller cannot miss the notification
+        done_.notify_one();
+      }
     }
   }
 
   std::vector<std::thread> workers_;
   std::mutex mutex_;
   std::condition_variable wake_, done_;
-  unsigned long long generation_ = 0;
-  bool stop_ = false;
+  std::atomic<unsigned long long> generation_{0};
+  std::atomic<bool> stop_{false};
+  std::atomic<int> pending_{0};
   void (*call_)(void*, int) = nullptr;
   void* ctx_ = nullptr;
   int tasks_ = 0;
-  int pending_ = 0;
 };
 
 /// The debug assertion of a batch argument's shape (as sizes.hpp's for single states: prints and aborts unless
