@@ -49,11 +49,9 @@ TEST(NoMallocBatch, RunTimeTreeOfEveryJointType) {
 }
 
 TEST(NoMallocBatch, CompileTimeStanceModel) {
+  // double only here: float takes the same code over the same tree (and is checked on the run-time tree above).
   const auto model = models::hoap3_stance_right::model();
-  for (const int threads : {1, 2}) {
-    expect_no_allocation(model, threads);
-    expect_no_allocation(model.cast<float>(), threads);
-  }
+  for (const int threads : {1, 2}) expect_no_allocation(model, threads);
 }
 
 }  // namespace
