@@ -292,12 +292,7 @@ class Batch {
   void rnea(const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<V>& v, const Eigen::MatrixBase<A>& a,
             const Eigen::MatrixBase<Out>& tau) {
     check("rnea", q, "q", v, "qd", a, "qdd", tau, "tau");
-    each(q.cols(), [&](Work& w, int j0, int m) {
-      gather(q, j0, m, w.q);
-      gather(v, j0, m, w.v);
-      gather(a, j0, m, w.a);
-      scatter(spatial::rnea(model_, w.data, w.q, w.v, w.a), j0, m, tau);
-    });
+    three_inputs(q, v, a, tau, [this](Work& w) -> const auto& { return spatial::rnea(model_, w.data, w.q, w.v, w.a); });
   }
   /// G(q) per state.
   template <class Q, class Out>
@@ -323,23 +318,15 @@ class Batch {
   void aba(const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<V>& v, const Eigen::MatrixBase<T>& tau,
            const Eigen::MatrixBase<Out>& qdd) {
     check("aba", q, "q", v, "qd", tau, "tau", qdd, "qdd");
-    each(q.cols(), [&](Work& w, int j0, int m) {
-      gather(q, j0, m, w.q);
-      gather(v, j0, m, w.v);
-      gather(tau, j0, m, w.a);
-      scatter(spatial::aba(model_, w.data, w.q, w.v, w.a), j0, m, qdd);
-    });
+    three_inputs(q, v, tau, qdd, [this](Work& w) -> const auto& { return spatial::aba(model_, w.data, w.q, w.v, w.a); });
   }
   /// q̈ by CRBA + the tree's LTDL factorisation (`forward_dynamics_crba`) per state.
   template <class Q, class V, class T, class Out>
   void forward_dynamics_crba(const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<V>& v,
                              const Eigen::MatrixBase<T>& tau, const Eigen::MatrixBase<Out>& qdd) {
     check("forward_dynamics_crba", q, "q", v, "qd", tau, "tau", qdd, "qdd");
-    each(q.cols(), [&](Work& w, int j0, int m) {
-      gather(q, j0, m, w.q);
-      gather(v, j0, m, w.v);
-      gather(tau, j0, m, w.a);
-      scatter(spatial::forward_dynamics_crba(model_, w.data, w.q, w.v, w.a), j0, m, qdd);
+    three_inputs(q, v, tau, qdd, [this](Work& w) -> const auto& {
+      return spatial::forward_dynamics_crba(model_, w.data, w.q, w.v, w.a);
     });
   }
   /// H(q) per state, both triangles: `H` is nv × (nv·B), state j's matrix in columns j·nv … j·nv + nv − 1.
@@ -417,6 +404,19 @@ class Batch {
                   const Rest&... rest) const {
     detail::check_batch_shape(x, nv_, cols, function, name);
     check_each(function, cols, rest...);
+  }
+
+  /// out = alg(work) per group of states, after gathering x, y, z into work.q, work.v, work.a (RNEA, ABA, CRBA
+  /// forward dynamics: the three state-sized inputs and one state-sized result).
+  template <class X, class Y, class Z, class Out, class Alg>
+  void three_inputs(const Eigen::MatrixBase<X>& x, const Eigen::MatrixBase<Y>& y, const Eigen::MatrixBase<Z>& z,
+                    const Eigen::MatrixBase<Out>& out, Alg&& alg) {
+    each(x.cols(), [&](Work& w, int j0, int m) {
+      gather(x, j0, m, w.q);
+      gather(y, j0, m, w.v);
+      gather(z, j0, m, w.a);
+      scatter(alg(w), j0, m, out);
+    });
   }
 
   /// f(work, first state, count) for each group of `lanes` states, the groups split over the threads in contiguous
