@@ -222,7 +222,10 @@ void check_model(const M& m, D& d, unsigned seed, int states, const std::string&
     std::vector<std::pair<bool, int>> targets;
     for (int b = -1; b < n_bodies(m); ++b) targets.push_back({false, b});
     for (int f = 0; f < n_frames(m); ++f) targets.push_back({true, f});
-    for (const auto& [is_frame, b] : targets) {
+    for (const auto& target : targets) {
+      // Named copies, not a structured binding: lambdas below capture them (C++17 lets no lambda capture a binding).
+      const bool is_frame = target.first;
+      const int b = target.second;
       const std::string at = where + (is_frame ? " frame " : " body ") + std::to_string(b) + " state " + std::to_string(s);
       // Poses along q ⊕ v t, and the reference velocities.
       const double hp = 1e-6;
