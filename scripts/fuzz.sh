@@ -2,8 +2,10 @@
 # Builds the URDF loader's fuzz target (tests/fuzz/fuzz_urdf.cpp) with clang, libFuzzer, ASan and UBSan in its own
 # build directory, and runs it for a bounded time on the seed corpus (tests/fuzz/corpus, urdf/test, urdf/*.urdf).
 # Leak detection is on; an input running longer than 10 s counts as a hang. A crash, sanitizer report, leak or hang
-# fails the script; libFuzzer writes the input to build-fuzz/artifacts/.
-# Usage: scripts/fuzz.sh [SECONDS]   (default 60). Needs clang and Debian's libclang-rt-14-dev (scripts/deps.sh).
+# fails the script; libFuzzer writes the input to build-fuzz/artifacts/. It fuzzes with $JOBS processes (default 2;
+# libFuzzer's fork mode, which shares one corpus; timeouts and out-of-memory inputs fail the run there too).
+# Usage: scripts/fuzz.sh [SECONDS]   (default 60, of wall time). Needs clang and Debian's libclang-rt-14-dev
+# (scripts/deps.sh).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
@@ -27,10 +29,19 @@ fi
 
 # The seeds: valid and broken URDFs. The working corpus (first directory) collects what the fuzzer finds.
 cp -f urdf/*.urdf "$out/corpus/"
-echo "fuzz.sh: running for ${seconds} s"
+jobs=${JOBS:-2}
+if ! [[ "$jobs" =~ ^[1-9][0-9]*$ ]]; then
+  echo "fuzz.sh: JOBS must be a positive integer (got '$jobs')" >&2
+  exit 2
+fi
+fork=()
+if [[ $jobs -gt 1 ]]; then
+  fork=(-fork="$jobs" -ignore_timeouts=0 -ignore_ooms=0 -ignore_crashes=0)
+fi
+echo "fuzz.sh: running for ${seconds} s with ${jobs} process(es)"
 ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:allocator_may_return_null=1} \
 UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1} \
-  "$out/fuzz_urdf" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len=32768 \
+  "$out/fuzz_urdf" "${fork[@]}" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len=32768 \
     -dict=tests/fuzz/urdf.dict -artifact_prefix="$out/artifacts/" -print_final_stats=1 \
     "$out/corpus" tests/fuzz/corpus urdf/test
-echo "fuzz.sh: no crash, leak or hang in ${seconds} s"
+echo "fuzz.sh: no crash, leak or hang in ${seconds} s (${jobs} process(es))"

@@ -11,7 +11,8 @@
 #      sanitizers' stack traces): the unit, AVX2-kernel and stress tests (tests/CMakeLists.txt). clang++, not g++:
 #      the instrumented unoptimised tests compile in 712 CPU-s instead of 1605 (2026-12-02), and the suite is read by
 #      a second compiler (it refused a lambda capturing a structured binding, which C++17 forbids and g++ allows).
-#   5. The URDF loader's fuzz target (scripts/fuzz.sh, clang + libFuzzer + ASan/UBSan, build-fuzz/) for 60 s.
+#   5. The URDF loader's fuzz target (scripts/fuzz.sh, clang + libFuzzer + ASan/UBSan, build-fuzz/) for 30 s on $JOBS
+#      processes (60 CPU-s with the default two: the minute of fuzzing it always had, in half the time).
 # Usage: scripts/test.sh [--quick]    --quick skips steps 3, 4 and 5.
 # JOBS (default 2) sets the parallelism of builds and tests.
 set -euo pipefail
@@ -56,7 +57,7 @@ UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1} \
   ctest --test-dir build-asan --output-on-failure --no-tests=error -j "$jobs" -LE package
 echo "test.sh: sanitizer stage done at ${SECONDS} s"
 
-echo "==== fuzzing the URDF loader (60 s) ===="
-bash scripts/fuzz.sh 60
+echo "==== fuzzing the URDF loader (30 s, ${jobs} processes) ===="
+JOBS="$jobs" bash scripts/fuzz.sh 30
 
 echo "test.sh: all tests passed (${SECONDS} s)"

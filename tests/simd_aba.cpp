@@ -10,13 +10,13 @@ using namespace spatial::testing::simd;
 
 /// ABA: every per-body output against the scalar path, and q̈ against a long-double reference: the AVX2 path must
 /// be as accurate as the scalar one.
-template <class TreeT, bool G, bool V>
-void compare_aba_terms(const Model<double, TreeT>& model, const Model<long double, TreeT>& reference,
-                       const Eigen::Matrix<double, TreeT::size, 1>& q, const Eigen::Matrix<double, TreeT::size, 1>& qd,
-                       const Eigen::Matrix<double, TreeT::size, 1>& tau) {
+template <class TreeT, bool G, bool V, class S>
+void compare_aba_terms(const Model<S, TreeT>& model, const Model<long double, TreeT>& reference,
+                       const Eigen::Matrix<S, TreeT::size, 1>& q, const Eigen::Matrix<S, TreeT::size, 1>& qd,
+                       const Eigen::Matrix<S, TreeT::size, 1>& tau) {
   SCOPED_TRACE(::testing::Message() << "gravity " << G << ", velocity " << V);
   using VN = Eigen::Matrix<double, TreeT::size, 1>;
-  Data<double, TreeT> ds(model), dr(model);
+  Data<S, TreeT> ds(model), dr(model);
   Data<long double, TreeT> dl(reference);
   Eigen::internal::set_is_malloc_allowed(false);
   detail::aba_impl<G, V, true>(model, ds, q, qd, tau, NoExternalForces{}, ForceFrame::Body);
@@ -26,28 +26,30 @@ void compare_aba_terms(const Model<double, TreeT>& model, const Model<long doubl
                                 tau.template cast<long double>(), NoExternalForces{}, ForceFrame::Body);
   const VN ref = dl.qdd.template cast<double>();
   const double scale = std::max(ref.cwiseAbs().maxCoeff(), 1.0);
-  const double err_simd = (ds.qdd - ref).cwiseAbs().maxCoeff(), err_scalar = (dr.qdd - ref).cwiseAbs().maxCoeff();
+  const double err_simd = (ds.qdd.template cast<double>() - ref).cwiseAbs().maxCoeff();
+  const double err_scalar = (dr.qdd.template cast<double>() - ref).cwiseAbs().maxCoeff();
   // The error of one state varies with the order of the roundings: the bound is twice the scalar path's error or
   // the comparison bound of this tree (16 (depth + 1) u |q̈|), whichever is larger. (Over 200 states of six random
   // 24-body chains both paths reach the same largest error, 2e-14 |q̈|.)
-  EXPECT_LE(err_simd, std::max(2.0 * err_scalar, tolerance<TreeT>() * scale))
+  EXPECT_LE(err_simd, std::max(2.0 * err_scalar, tolerance<TreeT, S>() * scale))
       << "simd error " << err_simd << ", scalar error " << err_scalar;
   // The other outputs: differences of a few roundings per level against the largest value of each kind, except
   // where the scalar error itself is large (ill-conditioned articulated inertias), which the q̈ check covers.
-  const double tol = tolerance<TreeT>() * std::max(1.0, err_scalar / (std::numeric_limits<double>::epsilon() * scale));
+  const double tol =
+      tolerance<TreeT, S>() * std::max(1.0, err_scalar / (double(std::numeric_limits<S>::epsilon()) * scale));
   double sIA = 0, sp = 0, sU = 0, sv = 0, sa = 0;
   for (int i = 0; i < TreeT::size; ++i) {
     const auto k = static_cast<std::size_t>(i);
-    sIA = std::max(sIA, dr.IA[k].matrix().cwiseAbs().maxCoeff());
-    sp = std::max(sp, dr.pA[k].vector().cwiseAbs().maxCoeff());
-    sU = std::max(sU, dr.U[k].vector().cwiseAbs().maxCoeff());
-    sv = std::max(sv, std::max(dr.v[k].vector().cwiseAbs().maxCoeff(), dr.c[k].vector().cwiseAbs().maxCoeff()));
-    sa = std::max(sa, dr.a[k].vector().cwiseAbs().maxCoeff());
+    sIA = std::max(sIA, double(dr.IA[k].matrix().cwiseAbs().maxCoeff()));
+    sp = std::max(sp, double(dr.pA[k].vector().cwiseAbs().maxCoeff()));
+    sU = std::max(sU, double(dr.U[k].vector().cwiseAbs().maxCoeff()));
+    sv = std::max({sv, double(dr.v[k].vector().cwiseAbs().maxCoeff()), double(dr.c[k].vector().cwiseAbs().maxCoeff())});
+    sa = std::max(sa, double(dr.a[k].vector().cwiseAbs().maxCoeff()));
   }
-  const Compare<TreeT> cmp{tol};
+  const Compare<TreeT, S> cmp{tol};
   for (int i = 0; i < TreeT::size; ++i) {
     const auto k = static_cast<std::size_t>(i);
-    EXPECT_LE((ds.X_up[k].E - dr.X_up[k].E).cwiseAbs().maxCoeff(), 4 * std::numeric_limits<double>::epsilon());
+    EXPECT_LE((ds.X_up[k].E - dr.X_up[k].E).cwiseAbs().maxCoeff(), 4 * std::numeric_limits<S>::epsilon());
     EXPECT_EQ(ds.X_up[k].r, dr.X_up[k].r);
     if (V) {
       cmp("v", i, ds.v[k].vector(), dr.v[k].vector(), sv);
@@ -64,18 +66,18 @@ void compare_aba_terms(const Model<double, TreeT>& model, const Model<long doubl
 
 /// All four term combinations when `AllTerms`, else only the full ABA (each combination of each tree is a large
 /// unrolled instantiation: this keeps the file's compile time down).
-template <bool AllTerms = false, class TreeT>
-void compare_aba(const Model<double, TreeT>& model, unsigned seed, double angle_scale) {
-  using VN = Eigen::Matrix<double, TreeT::size, 1>;
+template <bool AllTerms = false, class TreeT, class S>
+void compare_aba(const Model<S, TreeT>& model, unsigned seed, double angle_scale) {
+  using VN = Eigen::Matrix<S, TreeT::size, 1>;
   const auto reference = model.template cast<long double>();
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (int trial = 0; trial < 10; ++trial) {
     VN q, qd, tau;
     for (int i = 0; i < TreeT::size; ++i) {
-      q[i] = angle_scale * u(rng);
-      qd[i] = 3.0 * u(rng);
-      tau[i] = u(rng);
+      q[i] = S(angle_scale * u(rng));
+      qd[i] = S(3.0 * u(rng));
+      tau[i] = S(u(rng));
     }
     compare_aba_terms<TreeT, true, true>(model, reference, q, qd, tau);
     if constexpr (AllTerms && kEveryTermCombination<TreeT>) {
@@ -101,6 +103,12 @@ TEST(SimdAba, RandomTrees) {
     compare_aba(random_static<RevChain24>(seed), seed, 3.2);
   }
   compare_aba(random_static<Rev9>(90), 90, 1e6);
+}
+
+TEST(SimdAba, Float) {
+  compare_aba(models::hoap3_stance_right::model().cast<float>(), 74, 3.2);
+  compare_aba<true>(random_static<Rev9>(91).cast<float>(), 91, 3.2);
+  compare_aba(random_static<RevChain24>(92).cast<float>(), 92, 3.2);
 }
 
 // The public entry points reach the AVX2 ABA (aba, aba<Dyn>), and inverse dynamics undoes forward dynamics, both

@@ -8,30 +8,31 @@ using namespace spatial;
 using namespace spatial::testing::simd;
 
 /// CRBA: H and every per-body output against the scalar path.
-template <class TreeT>
-void compare_crba(const Model<double, TreeT>& model, unsigned seed, double angle_scale) {
-  using VN = Eigen::Matrix<double, TreeT::size, 1>;
+template <class TreeT, class S>
+void compare_crba(const Model<S, TreeT>& model, unsigned seed, double angle_scale) {
+  using VN = Eigen::Matrix<S, TreeT::size, 1>;
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
-  const double tol = tolerance<TreeT>();
+  const double tol = tolerance<TreeT, S>();
   for (int trial = 0; trial < 20; ++trial) {
     VN q;
-    for (int i = 0; i < TreeT::size; ++i) q[i] = angle_scale * u(rng);
-    Data<double, TreeT> ds(model), dr(model);
+    for (int i = 0; i < TreeT::size; ++i) q[i] = S(angle_scale * u(rng));
+    Data<S, TreeT> ds(model), dr(model);
     Eigen::internal::set_is_malloc_allowed(false);
     detail::crba_inputs<true>(model, ds, q);
     detail::crba_impl<true>(model, ds);
     detail::crba_inputs<false>(model, dr, q);
     detail::crba_impl<false>(model, dr);
     Eigen::internal::set_is_malloc_allowed(true);
-    const double sH = dr.H.cwiseAbs().maxCoeff();
+    const double sH = double(dr.H.cwiseAbs().maxCoeff());
     EXPECT_LE((ds.H - dr.H).cwiseAbs().maxCoeff(), tol * sH);
     EXPECT_EQ(ds.H.transpose(), ds.H) << "H is symmetric by construction";
     double sI = 0;
-    for (int i = 0; i < TreeT::size; ++i) sI = std::max(sI, dr.Ic[static_cast<std::size_t>(i)].matrix().cwiseAbs().maxCoeff());
+    for (int i = 0; i < TreeT::size; ++i)
+      sI = std::max(sI, double(dr.Ic[static_cast<std::size_t>(i)].matrix().cwiseAbs().maxCoeff()));
     for (int i = 0; i < TreeT::size; ++i) {
       const auto k = static_cast<std::size_t>(i);
-      EXPECT_LE((ds.X_up[k].E - dr.X_up[k].E).cwiseAbs().maxCoeff(), 4 * std::numeric_limits<double>::epsilon());
+      EXPECT_LE((ds.X_up[k].E - dr.X_up[k].E).cwiseAbs().maxCoeff(), 4 * std::numeric_limits<S>::epsilon());
       EXPECT_EQ(ds.X_up[k].r, dr.X_up[k].r);
       // ⁱX_0 is a product of depth rotations; its r a sum of depth rotated offsets (|r_T| < 1 m in all models).
       EXPECT_LE((ds.X_base[k].E - dr.X_base[k].E).cwiseAbs().maxCoeff(), tol) << "body " << i;
@@ -59,6 +60,12 @@ TEST(SimdCrba, RandomTrees) {
     compare_crba(random_static<RevChain24>(seed), seed, 3.2);
   }
   compare_crba(random_static<Rev9>(60), 60, 1e6);
+}
+
+TEST(SimdCrba, Float) {
+  compare_crba(models::hoap3_stance_right::model().cast<float>(), 44, 3.2);
+  compare_crba(random_static<Rev9>(61).cast<float>(), 61, 3.2);
+  compare_crba(random_static<RevChain24>(62).cast<float>(), 62, 3.2);
 }
 
 }  // namespace

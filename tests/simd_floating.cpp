@@ -10,17 +10,18 @@ namespace {
 using namespace spatial;
 using namespace spatial::testing::simd;
 
-template <class TreeT>
-void compare_floating(const FloatingModel<double, TreeT>& model, unsigned seed) {
-  using FM = FloatingModel<double, TreeT>;
-  using VQ = Eigen::Matrix<double, FM::NQ, 1>;
+template <class TreeT, class S>
+void compare_floating(const FloatingModel<S, TreeT>& model, unsigned seed) {
+  using FM = FloatingModel<S, TreeT>;
+  using VQ = Eigen::Matrix<S, FM::NQ, 1>;
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
-  const Eigen::VectorXd lo = Eigen::VectorXd::Constant(TreeT::size, -3.2), hi = -lo;
-  const double tol = tolerance<TreeT>();
+  const Eigen::Matrix<S, Eigen::Dynamic, 1> lo = Eigen::Matrix<S, Eigen::Dynamic, 1>::Constant(TreeT::size, S(-3.2));
+  const Eigen::Matrix<S, Eigen::Dynamic, 1> hi = -lo;
+  const double tol = tolerance<TreeT, S>();
   for (int trial = 0; trial < 20; ++trial) {
     const VQ q = random_configuration(model, lo, hi, rng);
-    FloatingData<double, TreeT> ds(model), dr(model);
+    FloatingData<S, TreeT> ds(model), dr(model);
     Eigen::internal::set_is_malloc_allowed(false);
     const auto qj = q.template tail<TreeT::size>();
     detail::crba_inputs<true>(model.tree(), ds.tree, qj);
@@ -28,7 +29,7 @@ void compare_floating(const FloatingModel<double, TreeT>& model, unsigned seed) 
     detail::crba_inputs<false>(model.tree(), dr.tree, qj);
     detail::crba_floating<false>(model, dr);
     Eigen::internal::set_is_malloc_allowed(true);
-    const double sH = dr.H.cwiseAbs().maxCoeff();
+    const double sH = double(dr.H.cwiseAbs().maxCoeff());
     EXPECT_LE((ds.H - dr.H).cwiseAbs().maxCoeff(), tol * sH);
     EXPECT_EQ(ds.H.transpose(), ds.H) << "H is symmetric by construction";
     // The public entry point takes the AVX2 CRBA and gives the same H.
@@ -57,20 +58,21 @@ using namespace spatial;
 using namespace spatial::testing::simd;
 
 /// RNEA (every term combination) and ABA on a floating base: the AVX2 tree passes against the scalar ones.
-template <class TreeT>
-void compare_floating_dynamics(const FloatingModel<double, TreeT>& model, unsigned seed) {
-  using FM = FloatingModel<double, TreeT>;
-  using VQ = Eigen::Matrix<double, FM::NQ, 1>;
-  using VV = Eigen::Matrix<double, FM::NV, 1>;
+template <class TreeT, class S>
+void compare_floating_dynamics(const FloatingModel<S, TreeT>& model, unsigned seed) {
+  using FM = FloatingModel<S, TreeT>;
+  using VQ = Eigen::Matrix<S, FM::NQ, 1>;
+  using VV = Eigen::Matrix<S, FM::NV, 1>;
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
-  const Eigen::VectorXd lo = Eigen::VectorXd::Constant(TreeT::size, -3.2), hi = -lo;
-  const double tol = tolerance<TreeT>();
+  const Eigen::Matrix<S, Eigen::Dynamic, 1> lo = Eigen::Matrix<S, Eigen::Dynamic, 1>::Constant(TreeT::size, S(-3.2));
+  const Eigen::Matrix<S, Eigen::Dynamic, 1> hi = -lo;
+  const double tol = tolerance<TreeT, S>();
   for (int trial = 0; trial < 20; ++trial) {
     const VQ q = random_configuration(model, lo, hi, rng);
     VV v, a;
-    for (int i = 0; i < FM::NV; ++i) v[i] = 2 * u(rng), a[i] = 2 * u(rng);
-    FloatingData<double, TreeT> ds(model), dr(model);
+    for (int i = 0; i < FM::NV; ++i) v[i] = S(2 * u(rng)), a[i] = S(2 * u(rng));
+    FloatingData<S, TreeT> ds(model), dr(model);
     VV ts, tr;
     Eigen::internal::set_is_malloc_allowed(false);
     auto both = [&](auto terms) {
@@ -78,7 +80,7 @@ void compare_floating_dynamics(const FloatingModel<double, TreeT>& model, unsign
       detail::rnea_floating<Terms, true>(model, ds, q, v, a, NoExternalForces{}, ForceFrame::Body, ts);
       detail::rnea_floating<Terms, false>(model, dr, q, v, a, NoExternalForces{}, ForceFrame::Body, tr);
       Eigen::internal::set_is_malloc_allowed(true);
-      EXPECT_LE((ts - tr).cwiseAbs().maxCoeff(), tol * std::max(1.0, tr.cwiseAbs().maxCoeff())) << Terms;
+      EXPECT_LE((ts - tr).cwiseAbs().maxCoeff(), tol * std::max(1.0, double(tr.cwiseAbs().maxCoeff()))) << Terms;
       Eigen::internal::set_is_malloc_allowed(false);
     };
     both(std::integral_constant<unsigned, 7u>{});
@@ -90,15 +92,21 @@ void compare_floating_dynamics(const FloatingModel<double, TreeT>& model, unsign
     detail::aba_floating<true>(model, ds, q, v, a, NoExternalForces{}, ForceFrame::Body);
     detail::aba_floating<false>(model, dr, q, v, a, NoExternalForces{}, ForceFrame::Body);
     Eigen::internal::set_is_malloc_allowed(true);
-    EXPECT_LE((ds.qdd - dr.qdd).cwiseAbs().maxCoeff(), 1e3 * tol * std::max(1.0, dr.qdd.cwiseAbs().maxCoeff()));
+    EXPECT_LE((ds.qdd - dr.qdd).cwiseAbs().maxCoeff(), 1e3 * tol * std::max(1.0, double(dr.qdd.cwiseAbs().maxCoeff())));
     // The round trip through the public entry points (both AVX2): RNEA(ABA(τ)) = τ.
     const VV qdd = aba(model, ds, q, v, a);
     const VV back = rnea(model, ds, q, v, qdd);
-    EXPECT_LE((back - a).cwiseAbs().maxCoeff(), 1e3 * tol * std::max(1.0, a.cwiseAbs().maxCoeff()));
+    EXPECT_LE((back - a).cwiseAbs().maxCoeff(), 1e3 * tol * std::max(1.0, double(a.cwiseAbs().maxCoeff())));
   }
 }
 
 TEST(SimdFloating, DynamicsHoap3) { compare_floating_dynamics(models::hoap3_floating::floating_model(), 80); }
+
+TEST(SimdFloating, Float) {
+  const auto model = models::hoap3_floating::floating_model().cast<float>();
+  compare_floating(model, 71);
+  compare_floating_dynamics(model, 85);
+}
 
 TEST(SimdFloating, DynamicsRandomTrees) {
   for (unsigned seed = 81; seed < 84; ++seed) {

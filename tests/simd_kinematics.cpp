@@ -18,13 +18,15 @@ constexpr ReferenceFrame kFrames[] = {ReferenceFrame::Local, ReferenceFrame::Wor
 
 template <class A, class B>
 double max_diff(const Eigen::MatrixBase<A>& a, const Eigen::MatrixBase<B>& b) {
-  return (a - b).cwiseAbs().maxCoeff();
+  return double((a - b).cwiseAbs().maxCoeff());
 }
 
 /// Every output of the kinematics on a compile-time model M (AVX2) and its run-time twin R (scalar), at q.
 template <class M, class R, class DM, class DR, class Q>
 void compare_kinematics(const M& m, const R& r, DM& dm, DR& dr, const Q& q, int nv, double tol) {
-  const Eigen::VectorXd qd = q;
+  using S = typename Q::Scalar;
+  using MX = Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>;
+  const Eigen::Matrix<S, Eigen::Dynamic, 1> qd = q;
   // Forward kinematics: transforms, and the subspaces the AVX2 pass leaves in S_base.
   forward_kinematics(m, dm, q);
   forward_kinematics(r, dr, qd);
@@ -35,27 +37,27 @@ void compare_kinematics(const M& m, const R& r, DM& dm, DR& dr, const Q& q, int 
     const auto k = static_cast<std::size_t>(i);
     EXPECT_LE(max_diff(tm.X_base[k].E, tr.X_base[k].E), tol) << "E of body " << i;
     EXPECT_LE(max_diff(tm.X_base[k].r, tr.X_base[k].r), tol * (1 + tr.X_base[k].r.norm())) << "r of body " << i;
-    const Motion<double> s = tree.joint(i).subspace_inverse(tr.X_base[k]);
+    const Motion<S> s = tree.joint(i).subspace_inverse(tr.X_base[k]);
     EXPECT_LE(max_diff(tm.S_base[k].w, s.w), tol) << "S_base of body " << i;
     EXPECT_LE(max_diff(tm.S_base[k].v, s.v), tol * (1 + s.v.norm())) << "S_base of body " << i;
   }
   // All joint Jacobians (World).
-  const Eigen::MatrixXd Jr = compute_joint_jacobians(r, dr, qd);
-  const Eigen::MatrixXd Jm = compute_joint_jacobians(m, dm, q);
-  const double scale = 1 + Jr.cwiseAbs().maxCoeff();
+  const MX Jr = compute_joint_jacobians(r, dr, qd);
+  const MX Jm = compute_joint_jacobians(m, dm, q);
+  const double scale = 1 + double(Jr.cwiseAbs().maxCoeff());
   EXPECT_LE(max_diff(Jm, Jr), tol * scale) << "compute_joint_jacobians";
   // One-walk Jacobians of every body (and the base/root) and every frame, in the three reference frames; into a
   // 6 × nv matrix (AVX2 walk) and into a block of a larger one (scalar walk on the same compile-time tree).
-  Eigen::MatrixXd Js(6, nv), Jb(6, nv), big(9, nv + 2), Jref(6, nv);
+  MX Js(6, nv), Jb(6, nv), big(9, nv + 2), Jref(6, nv);
   for (ReferenceFrame rf : kFrames) {
     for (int b = -1; b < tree.size(); ++b) {
       compute_body_jacobian(r, dr, qd, b, rf, Jref);
       compute_body_jacobian(m, dm, q, b, rf, Js);
-      big.setConstant(7.0);
+      big.setConstant(S(7));
       compute_body_jacobian(m, dm, q, b, rf, big.block(2, 1, 6, nv));
       EXPECT_LE(max_diff(Js, Jref), tol * scale) << "body " << b << " rf " << int(rf);
       EXPECT_LE(max_diff(big.block(2, 1, 6, nv), Jref), tol * scale) << "block, body " << b << " rf " << int(rf);
-      EXPECT_EQ(big.row(0).sum() + big.row(1).sum() + big.row(8).sum(), 3 * 7.0 * (nv + 2)) << "outside the block";
+      EXPECT_EQ(big.row(0).sum() + big.row(1).sum() + big.row(8).sum(), S(3 * 7 * (nv + 2))) << "outside the block";
       // The walk agrees with the Jacobian taken from all joint Jacobians.
       body_jacobian(m, dm, b, rf, Jb);
       EXPECT_LE(max_diff(Js, Jb), tol * scale) << "walk vs joint Jacobians, body " << b;
@@ -69,47 +71,53 @@ void compare_kinematics(const M& m, const R& r, DM& dm, DR& dr, const Q& q, int 
     }
   }
   // CoM Jacobian and A_G (built on the forward kinematics).
-  Eigen::MatrixXd Cm(3, nv), Cr(3, nv), Am(6, nv), Ar(6, nv);
+  MX Cm(3, nv), Cr(3, nv), Am(6, nv), Ar(6, nv);
   com_jacobian(m, dm, q, Cm);
   com_jacobian(r, dr, qd, Cr);
-  EXPECT_LE(max_diff(Cm, Cr), tol * (1 + Cr.cwiseAbs().maxCoeff())) << "com_jacobian";
+  EXPECT_LE(max_diff(Cm, Cr), tol * (1 + double(Cr.cwiseAbs().maxCoeff()))) << "com_jacobian";
   centroidal_momentum_matrix(m, dm, q, Am);
   centroidal_momentum_matrix(r, dr, qd, Ar);
-  EXPECT_LE(max_diff(Am, Ar), tol * (1 + Ar.cwiseAbs().maxCoeff())) << "centroidal_momentum_matrix";
+  EXPECT_LE(max_diff(Am, Ar), tol * (1 + double(Ar.cwiseAbs().maxCoeff()))) << "centroidal_momentum_matrix";
 }
 
-template <class TreeT>
-void compare_fixed(const Model<double, TreeT>& m, unsigned seed) {
-  static_assert(detail::simd_enabled<double, TreeT>());
-  const Model<double> r = m.to_runtime();
-  Data<double, TreeT> dm(m);
-  Data<double> dr(r);
+template <class TreeT, class S>
+void compare_fixed(const Model<S, TreeT>& m, unsigned seed) {
+  static_assert(detail::simd_enabled<S, TreeT>());
+  const Model<S> r = m.to_runtime();
+  Data<S, TreeT> dm(m);
+  Data<S> dr(r);
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-3.2, 3.2);
   for (int trial = 0; trial < 10; ++trial) {
-    Eigen::Matrix<double, TreeT::size, 1> q;
-    for (int i = 0; i < TreeT::size; ++i) q[i] = u(rng);
-    compare_kinematics(m, r, dm, dr, q, TreeT::size, tolerance<TreeT>());
+    Eigen::Matrix<S, TreeT::size, 1> q;
+    for (int i = 0; i < TreeT::size; ++i) q[i] = S(u(rng));
+    compare_kinematics(m, r, dm, dr, q, TreeT::size, tolerance<TreeT, S>());
   }
 }
 
-template <class TreeT>
-void compare_floating(const FloatingModel<double, TreeT>& m, unsigned seed) {
-  static_assert(detail::simd_enabled<double, TreeT>());
-  const FloatingModel<double> r = m.to_runtime();
-  FloatingData<double, TreeT> dm(m);
-  FloatingData<double> dr(r);
+template <class TreeT, class S>
+void compare_floating(const FloatingModel<S, TreeT>& m, unsigned seed) {
+  static_assert(detail::simd_enabled<S, TreeT>());
+  const FloatingModel<S> r = m.to_runtime();
+  FloatingData<S, TreeT> dm(m);
+  FloatingData<S> dr(r);
   std::mt19937 rng(seed);
-  const Eigen::VectorXd lo = Eigen::VectorXd::Constant(TreeT::size, -3.2), hi = -lo;
+  const Eigen::Matrix<S, Eigen::Dynamic, 1> lo = Eigen::Matrix<S, Eigen::Dynamic, 1>::Constant(TreeT::size, S(-3.2));
+  const Eigen::Matrix<S, Eigen::Dynamic, 1> hi = -lo;
   for (int trial = 0; trial < 10; ++trial) {
-    const Eigen::Matrix<double, FloatingModel<double, TreeT>::NQ, 1> q = random_configuration(m, lo, hi, rng);
-    compare_kinematics(m, r, dm, dr, q, m.nv(), tolerance<TreeT>());
+    const Eigen::Matrix<S, FloatingModel<S, TreeT>::NQ, 1> q = random_configuration(m, lo, hi, rng);
+    compare_kinematics(m, r, dm, dr, q, m.nv(), tolerance<TreeT, S>());
   }
 }
 
 TEST(SimdKinematics, FixedHoap3) { compare_fixed(models::hoap3_stance_right::model(), 80); }
 
 TEST(SimdKinematics, FloatingHoap3) { compare_floating(models::hoap3_floating::floating_model(), 81); }
+
+TEST(SimdKinematics, Float) {
+  compare_fixed(models::hoap3_stance_right::model().cast<float>(), 86);
+  compare_floating(models::hoap3_floating::floating_model().cast<float>(), 87);
+}
 
 TEST(SimdKinematics, RandomTrees) {
   const Inertia<double> I0 = Inertia<double>::from_com(2.0, Vector3<double>(0.1, -0.05, 0.02),

@@ -10,29 +10,29 @@ namespace {
 using namespace spatial;
 using namespace spatial::testing::simd;
 
-template <class TreeT, unsigned Terms>
-void compare_terms(const Model<double, TreeT>& model, const Eigen::Matrix<double, TreeT::size, 1>& q,
-                   const Eigen::Matrix<double, TreeT::size, 1>& qd, const Eigen::Matrix<double, TreeT::size, 1>& qdd) {
+template <class TreeT, unsigned Terms, class S>
+void compare_terms(const Model<S, TreeT>& model, const Eigen::Matrix<S, TreeT::size, 1>& q,
+                   const Eigen::Matrix<S, TreeT::size, 1>& qd, const Eigen::Matrix<S, TreeT::size, 1>& qdd) {
   SCOPED_TRACE(::testing::Message() << "terms " << Terms);
-  Data<double, TreeT> ds(model), dr(model);
+  Data<S, TreeT> ds(model), dr(model);
   Eigen::internal::set_is_malloc_allowed(false);
   detail::rnea_impl<Terms, true>(model, ds, q, qd, qdd, NoExternalForces{}, ForceFrame::Body, ds.tau);
   detail::rnea_impl<Terms, false>(model, dr, q, qd, qdd, NoExternalForces{}, ForceFrame::Body, dr.tau);
   Eigen::internal::set_is_malloc_allowed(true);
-  const Compare<TreeT> cmp{};
+  const Compare<TreeT, S> cmp{};
   constexpr bool V = (Terms & 2u) != 0;
   double sv = 0, sa = 0, sf = 0;
   for (int i = 0; i < TreeT::size; ++i) {
     const auto k = static_cast<std::size_t>(i);
-    sv = std::max(sv, dr.v[k].vector().cwiseAbs().maxCoeff());
-    sa = std::max(sa, dr.a[k].vector().cwiseAbs().maxCoeff());
-    sf = std::max(sf, dr.f[k].vector().cwiseAbs().maxCoeff());
+    sv = std::max(sv, double(dr.v[k].vector().cwiseAbs().maxCoeff()));
+    sa = std::max(sa, double(dr.a[k].vector().cwiseAbs().maxCoeff()));
+    sf = std::max(sf, double(dr.f[k].vector().cwiseAbs().maxCoeff()));
   }
   cmp("tau", -1, ds.tau, dr.tau, sf);
   for (int i = 0; i < TreeT::size; ++i) {
     const auto k = static_cast<std::size_t>(i);
     // The transforms are one rotation by (cos q, sin q) of the tree transform: a rounding or two per entry.
-    EXPECT_LE((ds.X_up[k].E - dr.X_up[k].E).cwiseAbs().maxCoeff(), 4 * std::numeric_limits<double>::epsilon());
+    EXPECT_LE((ds.X_up[k].E - dr.X_up[k].E).cwiseAbs().maxCoeff(), 4 * std::numeric_limits<S>::epsilon());
     EXPECT_EQ(ds.X_up[k].r, dr.X_up[k].r);
     if (V) cmp("v", i, ds.v[k].vector(), dr.v[k].vector(), sv);
     cmp("a", i, ds.a[k].vector(), dr.a[k].vector(), sa);
@@ -40,17 +40,17 @@ void compare_terms(const Model<double, TreeT>& model, const Eigen::Matrix<double
   }
 }
 
-template <class TreeT>
-void compare_all_terms(const Model<double, TreeT>& model, unsigned seed, double angle_scale) {
-  using VN = Eigen::Matrix<double, TreeT::size, 1>;
+template <class TreeT, class S>
+void compare_all_terms(const Model<S, TreeT>& model, unsigned seed, double angle_scale) {
+  using VN = Eigen::Matrix<S, TreeT::size, 1>;
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (int trial = 0; trial < 20; ++trial) {
     VN q, qd, qdd;
     for (int i = 0; i < TreeT::size; ++i) {
-      q[i] = angle_scale * u(rng);
-      qd[i] = 3.0 * u(rng);
-      qdd[i] = 10.0 * u(rng);
+      q[i] = S(angle_scale * u(rng));
+      qd[i] = S(3.0 * u(rng));
+      qdd[i] = S(10.0 * u(rng));
     }
     if constexpr (kEveryTermCombination<TreeT>) {
       compare_terms<TreeT, 1u>(model, q, qd, qdd);
@@ -78,6 +78,13 @@ TEST(SimdRnea, RandomTreesAllTerms) {
     compare_all_terms(random_static<Rev9>(seed), seed, 3.2);
     compare_all_terms(random_static<RevChain24>(seed), seed, 3.2);
   }
+}
+
+// float runs the same kernels on four floats per 128-bit register.
+TEST(SimdRnea, FloatAllTerms) {
+  compare_all_terms(models::hoap3_stance_right::model().cast<float>(), 7, 3.2);
+  compare_all_terms(random_static<Rev9>(31).cast<float>(), 31, 3.2);
+  compare_all_terms(random_static<RevChain24>(32).cast<float>(), 32, 3.2);
 }
 
 TEST(SimdRnea, LargeAnglesTakeTheLibraryPath) {
@@ -158,6 +165,51 @@ TEST(SimdRnea, EntryPoints) {
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, Tree::size, Tree::size>> eig(dr.H);
   const double kappa = eig.eigenvalues().maxCoeff() / eig.eigenvalues().minCoeff();
   EXPECT_LE((qdd_crba - qdd_ref).norm(), 100.0 * tolerance<Tree>() * kappa * qdd_ref.norm()) << "kappa " << kappa;
+}
+
+// float reaches the kernels through every public entry point (bit for bit the kernel's result, not the scalar
+// path's), and the kernels' float results are the double ones to float's precision.
+TEST(SimdRnea, FloatEntryPointsTakeTheKernels) {
+  using Tree = models::hoap3_stance_right::Tree;
+  const auto md = models::hoap3_stance_right::model();
+  const auto model = md.cast<float>();
+  using VN = Eigen::Matrix<float, Tree::size, 1>;
+  using VD = Eigen::Matrix<double, Tree::size, 1>;
+  std::mt19937 rng(33);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  VN q, qd, qdd, tau;
+  for (int i = 0; i < Tree::size; ++i) q[i] = 1.5f * u(rng), qd[i] = u(rng), qdd[i] = u(rng), tau[i] = u(rng);
+  Data<float, Tree> d(model), ds(model), dr(model);
+  Eigen::internal::set_is_malloc_allowed(false);
+  const VN t = rnea(model, d, q, qd, qdd);
+  detail::rnea_impl<7u, true>(model, ds, q, qd, qdd, NoExternalForces{}, ForceFrame::Body, ds.tau);
+  detail::rnea_impl<7u, false>(model, dr, q, qd, qdd, NoExternalForces{}, ForceFrame::Body, dr.tau);
+  crba(model, d, q);
+  detail::crba_inputs<true>(model, ds, q);
+  detail::crba_impl<true>(model, ds);
+  detail::crba_inputs<false>(model, dr, q);
+  detail::crba_impl<false>(model, dr);
+  const VN a = aba(model, d, q, qd, tau);
+  Eigen::internal::set_is_malloc_allowed(true);
+  EXPECT_EQ(t, ds.tau);
+  EXPECT_NE(t, dr.tau) << "the scalar path rounds differently, so equality would mean it ran instead";
+  EXPECT_EQ(d.H, ds.H);
+  EXPECT_NE(d.H, dr.H);
+  detail::aba_impl<true, true, true>(model, ds, q, qd, tau, NoExternalForces{}, ForceFrame::Body);
+  EXPECT_EQ(a, ds.qdd);
+  detail::aba_impl<true, true, false>(model, dr, q, qd, tau, NoExternalForces{}, ForceFrame::Body);
+  EXPECT_NE(a, dr.qdd);
+  // Against double at the same (float) inputs: τ and H to a few float roundings per level, q̈ to κ(H) of them.
+  Data<double, Tree> dd(md);
+  const VD td = rnea(md, dd, q.cast<double>(), qd.cast<double>(), qdd.cast<double>());
+  const double tol = tolerance<Tree, float>();
+  EXPECT_LE((t.cast<double>() - td).cwiseAbs().maxCoeff(), tol * std::max(1.0, td.cwiseAbs().maxCoeff()));
+  crba(md, dd, q.cast<double>());
+  EXPECT_LE((d.H.cast<double>() - dd.H).cwiseAbs().maxCoeff(), tol * dd.H.cwiseAbs().maxCoeff());
+  const VD ad = aba(md, dd, q.cast<double>(), qd.cast<double>(), tau.cast<double>());
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, Tree::size, Tree::size>> eig(dd.H);
+  const double kappa = eig.eigenvalues().maxCoeff() / eig.eigenvalues().minCoeff();
+  EXPECT_LE((a.cast<double>() - ad).norm(), tol * kappa * ad.norm()) << "kappa " << kappa;
 }
 
 }  // namespace

@@ -356,21 +356,22 @@ void jacobian_time_variation_from_world(const K& k, int body, const Transform<ty
 /// ⁰X_w = X0, identity for a fixed base), then every column straight in `rf`: a joint with world axis ω through
 /// the point p moves the world origin at p × ω (World) and the frame's origin p_f at ω × (p_f − p)
 /// (LocalWorldAligned; Local rotates that into the frame's axes).
-template <class K, class Q>
-void jacobian_walk_simd(const K& k, const Eigen::MatrixBase<Q>& q, int body, const Transform<double>& Xf,
-                        ReferenceFrame rf, double* J) {
+template <class K, class Q, class S>
+void jacobian_walk_simd(const K& k, const Eigen::MatrixBase<Q>& q, int body, const Transform<S>& Xf,
+                        ReferenceFrame rf, S* J) {
   using namespace simd;
+  using V = Vec<S>;
   using T = typename std::decay_t<decltype(k.tree)>::tree_type;
   constexpr int NB = T::size;
   std::array<int, NB> idx;
-  std::array<double, NB> qc, cc, sc;
+  std::array<S, NB> qc, cc, sc;
   int n = 0;
   for (int j = body; j >= 0; j = k.tree.parent(j), ++n) {
     idx[static_cast<std::size_t>(n)] = j;
-    qc[static_cast<std::size_t>(n)] = double(q[K::qoff + j]);
+    qc[static_cast<std::size_t>(n)] = S(q[K::qoff + j]);
   }
-  sincos_all<double>(qc, cc, sc, n);
-  const Transform<double> X0 = K::root_cols > 0 ? root_transform<double>(q) : Transform<double>::Identity();
+  sincos_all<S>(qc, cc, sc, n);
+  const Transform<S> X0 = K::root_cols > 0 ? root_transform<S>(q) : Transform<S>::Identity();
   V col[3], row[3], r;  // the current body's ⁱX_w
   col[0] = load3z(X0.E.data());
   col[1] = load3z(X0.E.data() + 3);
@@ -387,7 +388,7 @@ void jacobian_walk_simd(const K& k, const Eigen::MatrixBase<Q>& q, int body, con
     if (axis_k == 0) compose<0>(k.tree.tree_transform(i), cc[u], sc[u], ucol[0], ucol[1], ucol[2], ur);
     else if (axis_k == 1) compose<1>(k.tree.tree_transform(i), cc[u], sc[u], ucol[0], ucol[1], ucol[2], ur);
     else compose<2>(k.tree.tree_transform(i), cc[u], sc[u], ucol[0], ucol[1], ucol[2], ur);
-    r = _mm256_add_pd(r, comb(row[0], row[1], row[2], ur));
+    r = add(r, comb(row[0], row[1], row[2], ur));
     for (int c = 0; c < 3; ++c) col[c] = comb(ucol[0], ucol[1], ucol[2], col[c]);
     transpose(col[0], col[1], col[2], row[0], row[1], row[2]);
     w[u] = row[axis_k];
@@ -400,22 +401,22 @@ void jacobian_walk_simd(const K& k, const Eigen::MatrixBase<Q>& q, int body, con
     for (int c = 0; c < 3; ++c) fcol[c] = comb(a0, a1, a2, col[c]);
     transpose(fcol[0], fcol[1], fcol[2], frow[0], frow[1], frow[2]);
   }
-  const V pf = _mm256_add_pd(r, comb(row[0], row[1], row[2], load3(Xf.r.data())));
+  const V pf = add(r, comb(row[0], row[1], row[2], load3(Xf.r.data())));
   auto column = [&](int c, V wc, V pc, bool linear) SPATIAL_LAMBDA_INLINE {
     V v;
     if (linear) {
       v = wc;  // a unit translation of the root along wc: every point moves by wc
-      wc = zero();
+      wc = zero<V>();
     } else if (rf == ReferenceFrame::World) {
       v = cross(pc, wc);
     } else {
-      v = cross(wc, _mm256_sub_pd(pf, pc));
+      v = cross(wc, sub(pf, pc));
     }
     if (rf == ReferenceFrame::Local) {
       v = comb(fcol[0], fcol[1], fcol[2], v);
       wc = comb(fcol[0], fcol[1], fcol[2], wc);
     }
-    double* out = J + 6 * c;
+    S* out = J + 6 * c;
     store4(out, v);
     store3(out + 3, wc);
   };

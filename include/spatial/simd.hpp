@@ -1,20 +1,21 @@
 #pragma once
 /// \file simd.hpp
-/// AVX2 kernels for the recursive Newton–Euler algorithm on compile-time trees in double precision.
+/// AVX2 kernels for RNEA, CRBA, ABA and forward kinematics on compile-time trees, in double and float.
 ///
 /// The scalar algorithms (algorithms.hpp) spend about one instruction per flop on 3-vector arithmetic. Here every
-/// 3-vector lives in one 256-bit register (lanes x, y, z and a spare fourth lane), so that
+/// 3-vector lives in one register (lanes x, y, z and a spare fourth lane: four doubles in 256 bits, four floats in
+/// 128, the same kernels over either register type), so that
 ///  - E x (E by columns) and Eᵀ x (E by rows) are three broadcasts and three fused multiply–adds,
 ///  - a × b is three lane permutations and two arithmetic instructions: a × b = yzx(a ∘ yzx(b) − yzx(a) ∘ b),
 ///  - the joint rotation X_J X_T about coordinate axis K is one lane swap and one multiply–add per column.
 /// The fourth lane is never broadcast into the others, so whatever it holds cannot reach a result; values are
 /// written back to `Data` with three-lane stores (or four-lane stores that a later store overwrites).
 ///
-/// Used when the translation unit is compiled with AVX2 and FMA (`-mavx2 -mfma`, `-march=x86-64-v3`,
-/// `-march=native` on such a machine), the scalar is double, the tree is a compile-time tree of revolute joints
-/// about coordinate axes (RevoluteX/Y/Z: all reference models), and no external force is given. Everything else
-/// takes the scalar path. Define SPATIAL_NO_SIMD to always take it. Results agree with the scalar path to rounding
-/// (tests/simd/: every term combination, every per-body output).
+/// Used when the translation unit is compiled with AVX2 and FMA (`-mavx2 -mfma`, `-march=x86-64-v3`, `-march=native`
+/// on such a machine), the scalar is double or float, the tree is a compile-time tree of revolute joints about
+/// coordinate axes (RevoluteX/Y/Z: all reference models), and no external force is given. Everything else takes the
+/// scalar path. Define SPATIAL_NO_SIMD to always take it. Results agree with the scalar path to rounding
+/// (tests/simd_*.cpp: every term combination, every per-body output, double and float).
 
 #include "spatial/algebra.hpp"
 #include "spatial/joints.hpp"
@@ -47,7 +48,8 @@ constexpr bool all_revolute_axis_aligned(std::index_sequence<I...>) {
 /// True when RNEA (without external forces) and CRBA take the AVX2 path on a Model<S, T> (see the file comment).
 template <class S, class T>
 constexpr bool simd_enabled() {
-  if constexpr (!SPATIAL_SIMD_AVX2 || !std::is_same_v<S, double> || !is_static_tree_v<T>) {
+  if constexpr (!SPATIAL_SIMD_AVX2 || !(std::is_same_v<S, double> || std::is_same_v<S, float>) ||
+                !is_static_tree_v<T>) {
     return false;
   } else {
     return all_revolute_axis_aligned<T>(std::make_index_sequence<std::size_t(T::size)>{});
@@ -60,122 +62,211 @@ constexpr bool simd_enabled() {
 
 namespace simd {
 
-using V = __m256d;
+// One 3-vector per register: four doubles in a 256-bit register (Vd), or four floats in a 128-bit one (Vf, the same
+// lane layout with the same instruction count: float runs these kernels at double's speed rather than taking the
+// scalar path). Each helper below exists for both; the kernels are written once, over V = Vec<S>.
+using Vd = __m256d;
+using Vf = __m128;
+template <class S>
+struct VecOf;
+template <>
+struct VecOf<double> {
+  using type = Vd;
+};
+template <>
+struct VecOf<float> {
+  using type = Vf;
+};
+template <class S>
+using Vec = typename VecOf<S>::type;
+// (The helpers that need the register type as a template argument test its size: naming __m256d or __m128 as an
+// argument of a class template such as std::is_same makes g++ warn that their attributes are ignored.)
 
-SPATIAL_INLINE V zero() { return _mm256_setzero_pd(); }
-/// Four doubles from p (the fourth lane is whatever follows the 3-vector in memory; p[3] must be readable).
-SPATIAL_INLINE V load4(const double* p) { return _mm256_loadu_pd(p); }
-/// Three doubles from p, fourth lane 0 (nothing beyond p[2] is read).
-SPATIAL_INLINE V load3(const double* p) {
-  return _mm256_maskload_pd(p, _mm256_set_epi64x(0, -1, -1, -1));
+SPATIAL_INLINE Vd add(Vd a, Vd b) { return _mm256_add_pd(a, b); }
+SPATIAL_INLINE Vf add(Vf a, Vf b) { return _mm_add_ps(a, b); }
+SPATIAL_INLINE Vd sub(Vd a, Vd b) { return _mm256_sub_pd(a, b); }
+SPATIAL_INLINE Vf sub(Vf a, Vf b) { return _mm_sub_ps(a, b); }
+SPATIAL_INLINE Vd mul(Vd a, Vd b) { return _mm256_mul_pd(a, b); }
+SPATIAL_INLINE Vf mul(Vf a, Vf b) { return _mm_mul_ps(a, b); }
+/// a b + c
+SPATIAL_INLINE Vd fmadd(Vd a, Vd b, Vd c) { return _mm256_fmadd_pd(a, b, c); }
+SPATIAL_INLINE Vf fmadd(Vf a, Vf b, Vf c) { return _mm_fmadd_ps(a, b, c); }
+/// a b − c
+SPATIAL_INLINE Vd fmsub(Vd a, Vd b, Vd c) { return _mm256_fmsub_pd(a, b, c); }
+SPATIAL_INLINE Vf fmsub(Vf a, Vf b, Vf c) { return _mm_fmsub_ps(a, b, c); }
+/// c − a b
+SPATIAL_INLINE Vd fnmadd(Vd a, Vd b, Vd c) { return _mm256_fnmadd_pd(a, b, c); }
+SPATIAL_INLINE Vf fnmadd(Vf a, Vf b, Vf c) { return _mm_fnmadd_ps(a, b, c); }
+
+/// (l0, l1, l2, l3), lane 0 first.
+template <class W>
+SPATIAL_INLINE W set(double l0, double l1, double l2, double l3) {
+  if constexpr (sizeof(W) == sizeof(Vd)) return _mm256_set_pd(l3, l2, l1, l0);
+  else return _mm_set_ps(float(l3), float(l2), float(l1), float(l0));
 }
+template <class W>
+SPATIAL_INLINE W zero() {
+  if constexpr (sizeof(W) == sizeof(Vd)) return _mm256_setzero_pd();
+  else return _mm_setzero_ps();
+}
+/// Four scalars from p (the fourth lane is whatever follows the 3-vector in memory; p[3] must be readable).
+SPATIAL_INLINE Vd load4(const double* p) { return _mm256_loadu_pd(p); }
+SPATIAL_INLINE Vf load4(const float* p) { return _mm_loadu_ps(p); }
+/// Three scalars from p, fourth lane 0 (nothing beyond p[2] is read).
+SPATIAL_INLINE Vd load3(const double* p) { return _mm256_maskload_pd(p, _mm256_set_epi64x(0, -1, -1, -1)); }
+SPATIAL_INLINE Vf load3(const float* p) { return _mm_maskload_ps(p, _mm_set_epi32(0, -1, -1, -1)); }
 /// Lanes 0..3 to p[0..3] (p[3] is overwritten: a later store must put it right).
-SPATIAL_INLINE void store4(double* p, V x) { _mm256_storeu_pd(p, x); }
+SPATIAL_INLINE void store4(double* p, Vd x) { _mm256_storeu_pd(p, x); }
+SPATIAL_INLINE void store4(float* p, Vf x) { _mm_storeu_ps(p, x); }
 /// Lanes 0..2 to p[0..2].
-SPATIAL_INLINE void store3(double* p, V x) {
+SPATIAL_INLINE void store3(double* p, Vd x) {
   _mm_storeu_pd(p, _mm256_castpd256_pd128(x));
   _mm_store_sd(p + 2, _mm256_extractf128_pd(x, 1));
 }
-SPATIAL_INLINE V bcast(double s) { return _mm256_set1_pd(s); }
+SPATIAL_INLINE void store3(float* p, Vf x) {
+  _mm_storel_pi(reinterpret_cast<__m64*>(p), x);
+  _mm_store_ss(p + 2, _mm_movehl_ps(x, x));
+}
+SPATIAL_INLINE Vd bcast(double s) { return _mm256_set1_pd(s); }
+SPATIAL_INLINE Vf bcast(float s) { return _mm_set1_ps(s); }
 /// Lane L of x in all four lanes.
 template <int L>
-SPATIAL_INLINE V lane(V x) {
+SPATIAL_INLINE Vd lane(Vd x) {
   return _mm256_permute4x64_pd(x, L * 0x55);
 }
 template <int L>
-SPATIAL_INLINE double get(V x) {
+SPATIAL_INLINE Vf lane(Vf x) {
+  return _mm_permute_ps(x, L * 0x55);
+}
+template <int L>
+SPATIAL_INLINE double get(Vd x) {
   if constexpr (L == 0) return _mm256_cvtsd_f64(x);
   else return _mm256_cvtsd_f64(_mm256_permute4x64_pd(x, L));
 }
-/// x₀ + x₁ + x₂ + x₃
-SPATIAL_INLINE double hsum(V x) {
+template <int L>
+SPATIAL_INLINE float get(Vf x) {
+  if constexpr (L == 0) return _mm_cvtss_f32(x);
+  else return _mm_cvtss_f32(_mm_permute_ps(x, L));
+}
+/// (x₀ + x₂) + (x₁ + x₃)
+SPATIAL_INLINE double hsum(Vd x) {
   const __m128d t = _mm_add_pd(_mm256_castpd256_pd128(x), _mm256_extractf128_pd(x, 1));
   return _mm_cvtsd_f64(_mm_add_sd(t, _mm_unpackhi_pd(t, t)));
 }
+SPATIAL_INLINE float hsum(Vf x) {
+  const __m128 t = _mm_add_ps(x, _mm_movehl_ps(x, x));
+  return _mm_cvtss_f32(_mm_add_ss(t, _mm_movehdup_ps(t)));
+}
 /// s e_L (s in lane L, 0 elsewhere) from a register holding a finite s in every lane. A product with e_L rather
 /// than a blend or mask: for L = 0 compilers turn those into a form of vmovq that valgrind cannot decode.
-template <int L>
-SPATIAL_INLINE V only(V s) {
-  return _mm256_mul_pd(s, _mm256_set_pd(L == 3 ? 1.0 : 0.0, L == 2 ? 1.0 : 0.0, L == 1 ? 1.0 : 0.0, L == 0 ? 1.0 : 0.0));
+template <int L, class W>
+SPATIAL_INLINE W only(W s) {
+  return mul(s, set<W>(L == 0, L == 1, L == 2, L == 3));
 }
 /// x with lane L set to 0.
 template <int L>
-SPATIAL_INLINE V clear(V x) {
+SPATIAL_INLINE Vd clear(Vd x) {
   return _mm256_and_pd(x, _mm256_castsi256_pd(_mm256_set_epi64x(L == 3 ? 0 : -1, L == 2 ? 0 : -1, L == 1 ? 0 : -1,
                                                                  L == 0 ? 0 : -1)));
 }
-/// Three doubles from p, fourth lane 0 (p[3] must be readable; it is read and discarded).
-SPATIAL_INLINE V load3z(const double* p) { return clear<3>(_mm256_loadu_pd(p)); }
+template <int L>
+SPATIAL_INLINE Vf clear(Vf x) {
+  return _mm_and_ps(x, _mm_castsi128_ps(_mm_set_epi32(L == 3 ? 0 : -1, L == 2 ? 0 : -1, L == 1 ? 0 : -1,
+                                                      L == 0 ? 0 : -1)));
+}
+/// Three scalars from p, fourth lane 0 (p[3] must be readable; it is read and discarded).
+template <class P>
+SPATIAL_INLINE auto load3z(const P* p) {
+  return clear<3>(load4(p));
+}
 /// (x₁, x₂, x₀, x₃)
-SPATIAL_INLINE V yzx(V x) { return _mm256_permute4x64_pd(x, 0xC9); }
+SPATIAL_INLINE Vd yzx(Vd x) { return _mm256_permute4x64_pd(x, 0xC9); }
+SPATIAL_INLINE Vf yzx(Vf x) { return _mm_permute_ps(x, 0xC9); }
 /// a × b in lanes 0..2; lane 3 is 0 for finite inputs.
-SPATIAL_INLINE V cross(V a, V b) {
-  return yzx(_mm256_fmsub_pd(a, yzx(b), _mm256_mul_pd(yzx(a), b)));
+template <class W>
+SPATIAL_INLINE W cross(W a, W b) {
+  return yzx(fmsub(a, yzx(b), mul(yzx(a), b)));
 }
 /// c0 x₀ + c1 x₁ + c2 x₂: E x when c0, c1, c2 are the columns of E, Eᵀ x when they are its rows.
-SPATIAL_INLINE V comb(V c0, V c1, V c2, V x) {
-  return _mm256_fmadd_pd(c2, lane<2>(x), _mm256_fmadd_pd(c1, lane<1>(x), _mm256_mul_pd(c0, lane<0>(x))));
+template <class W>
+SPATIAL_INLINE W comb(W c0, W c1, W c2, W x) {
+  return fmadd(c2, lane<2>(x), fmadd(c1, lane<1>(x), mul(c0, lane<0>(x))));
 }
 /// comb without the term of index K (c_K or x_K known to be zero).
-template <int K>
-SPATIAL_INLINE V comb_skip(V c0, V c1, V c2, V x) {
-  if constexpr (K == 0) return _mm256_fmadd_pd(c2, lane<2>(x), _mm256_mul_pd(c1, lane<1>(x)));
-  else if constexpr (K == 1) return _mm256_fmadd_pd(c2, lane<2>(x), _mm256_mul_pd(c0, lane<0>(x)));
-  else return _mm256_fmadd_pd(c1, lane<1>(x), _mm256_mul_pd(c0, lane<0>(x)));
+template <int K, class W>
+SPATIAL_INLINE W comb_skip(W c0, W c1, W c2, W x) {
+  if constexpr (K == 0) return fmadd(c2, lane<2>(x), mul(c1, lane<1>(x)));
+  else if constexpr (K == 1) return fmadd(c2, lane<2>(x), mul(c0, lane<0>(x)));
+  else return fmadd(c1, lane<1>(x), mul(c0, lane<0>(x)));
 }
 /// x with lanes (K+1) % 3 and (K+2) % 3 exchanged.
 template <int K>
-SPATIAL_INLINE V swap_other(V x) {
+SPATIAL_INLINE Vd swap_other(Vd x) {
   if constexpr (K == 2) return _mm256_permute_pd(x, 0x9);               // (x₁, x₀, x₂, x₃)
   else if constexpr (K == 0) return _mm256_permute4x64_pd(x, 0xD8);     // (x₀, x₂, x₁, x₃)
   else return _mm256_permute4x64_pd(x, 0xC6);                          // (x₂, x₁, x₀, x₃)
 }
-/// (+1 in lane (K+1) % 3, −1 in lane (K+2) % 3, 0 elsewhere): swap_other<K>(a) ∘ sign<K>() s = a × e_K s.
 template <int K>
-SPATIAL_INLINE V sign() {
-  constexpr int i = (K + 1) % 3;
-  return _mm256_set_pd(0.0, i == 2 ? 1.0 : (K + 2) % 3 == 2 ? -1.0 : 0.0, i == 1 ? 1.0 : (K + 2) % 3 == 1 ? -1.0 : 0.0,
-                       i == 0 ? 1.0 : (K + 2) % 3 == 0 ? -1.0 : 0.0);
+SPATIAL_INLINE Vf swap_other(Vf x) {
+  return _mm_permute_ps(x, K == 2 ? 0xE1 : K == 0 ? 0xD8 : 0xC6);
+}
+/// (+1 in lane (K+1) % 3, −1 in lane (K+2) % 3, 0 elsewhere): swap_other<K>(a) ∘ sign<K>() s = a × e_K s.
+template <int K, class W>
+SPATIAL_INLINE W sign() {
+  constexpr int i = (K + 1) % 3, j = (K + 2) % 3;
+  return set<W>(i == 0 ? 1.0 : j == 0 ? -1.0 : 0.0, i == 1 ? 1.0 : j == 1 ? -1.0 : 0.0,
+                i == 2 ? 1.0 : j == 2 ? -1.0 : 0.0, 0.0);
 }
 /// 1 in lanes (K+1) % 3 and (K+2) % 3, 0 elsewhere.
-template <int K>
-SPATIAL_INLINE V other() {
-  return _mm256_set_pd(0.0, K == 2 ? 0.0 : 1.0, K == 1 ? 0.0 : 1.0, K == 0 ? 0.0 : 1.0);
+template <int K, class W>
+SPATIAL_INLINE W other() {
+  return set<W>(K == 0 ? 0.0 : 1.0, K == 1 ? 0.0 : 1.0, K == 2 ? 0.0 : 1.0, 0.0);
 }
 /// e_K s (s in lane K, 0 elsewhere for finite s). A product with e_K: inserting s into a zero register makes some
 /// compilers emit a form of vmovq that valgrind cannot decode.
-template <int K>
-SPATIAL_INLINE V axis(double s) {
-  return _mm256_mul_pd(bcast(s), _mm256_set_pd(0.0, K == 2 ? 1.0 : 0.0, K == 1 ? 1.0 : 0.0, K == 0 ? 1.0 : 0.0));
+template <int K, class S>
+SPATIAL_INLINE Vec<S> axis(S s) {
+  return mul(bcast(s), set<Vec<S>>(K == 0, K == 1, K == 2, 0.0));
 }
 /// Rows 0, 1, 2 of the 3×3 matrix with columns c0, c1, c2 (fourth lanes 0); the rows' fourth lanes are 0.
-SPATIAL_INLINE void transpose(V c0, V c1, V c2, V& r0, V& r1, V& r2) {
-  const V t0 = _mm256_unpacklo_pd(c0, c1);          // c0₀ c1₀ c0₂ c1₂
-  const V t1 = _mm256_unpackhi_pd(c0, c1);          // c0₁ c1₁ c0₃ c1₃
-  const V t2 = _mm256_unpacklo_pd(c2, zero());      // c2₀ 0 c2₂ 0
-  const V t3 = _mm256_unpackhi_pd(c2, zero());      // c2₁ 0 c2₃ 0
+SPATIAL_INLINE void transpose(Vd c0, Vd c1, Vd c2, Vd& r0, Vd& r1, Vd& r2) {
+  const Vd t0 = _mm256_unpacklo_pd(c0, c1);          // c0₀ c1₀ c0₂ c1₂
+  const Vd t1 = _mm256_unpackhi_pd(c0, c1);          // c0₁ c1₁ c0₃ c1₃
+  const Vd t2 = _mm256_unpacklo_pd(c2, zero<Vd>());  // c2₀ 0 c2₂ 0
+  const Vd t3 = _mm256_unpackhi_pd(c2, zero<Vd>());  // c2₁ 0 c2₃ 0
   r0 = _mm256_permute2f128_pd(t0, t2, 0x20);
   r1 = _mm256_permute2f128_pd(t1, t3, 0x20);
   r2 = _mm256_permute2f128_pd(t0, t2, 0x31);
+}
+SPATIAL_INLINE void transpose(Vf c0, Vf c1, Vf c2, Vf& r0, Vf& r1, Vf& r2) {
+  const Vf t0 = _mm_unpacklo_ps(c0, c1);          // c0₀ c1₀ c0₁ c1₁
+  const Vf t1 = _mm_unpackhi_ps(c0, c1);          // c0₂ c1₂ c0₃ c1₃
+  const Vf t2 = _mm_unpacklo_ps(c2, zero<Vf>());  // c2₀ 0 c2₁ 0
+  const Vf t3 = _mm_unpackhi_ps(c2, zero<Vf>());  // c2₂ 0 c2₃ 0
+  r0 = _mm_movelh_ps(t0, t2);
+  r1 = _mm_movehl_ps(t2, t0);
+  r2 = _mm_movelh_ps(t1, t3);
 }
 
 /// ⁱX_λ = X_J(q) X_T for a revolute joint about axis K, from c = cos q and s = sin q: the columns c0, c1, c2 of E
 /// (fourth lanes 0) and r (= r_T). Each column x of E_T turns into x ∘ (c in the two other lanes, 1 in lane K)
 /// + swap(x) ∘ sign s.
-template <int K>
-SPATIAL_INLINE void compose(const Transform<double>& XT, double c, double s, V& c0, V& c1, V& c2, V& r) {
-  const double* e = XT.E.data();
-  const V cvec = _mm256_fmadd_pd(bcast(c), other<K>(), axis<K>(1.0));
-  const V svec = _mm256_mul_pd(bcast(s), sign<K>());
+template <int K, class S>
+SPATIAL_INLINE void compose(const Transform<S>& XT, S c, S s, Vec<S>& c0, Vec<S>& c1, Vec<S>& c2, Vec<S>& r) {
+  using V = Vec<S>;
+  const S* e = XT.E.data();
+  const V cvec = fmadd(bcast(c), other<K, V>(), axis<K>(S(1)));
+  const V svec = mul(bcast(s), sign<K, V>());
   const V t0 = load4(e), t1 = load4(e + 3), t2 = load4(e + 6);
-  c0 = _mm256_fmadd_pd(swap_other<K>(t0), svec, _mm256_mul_pd(t0, cvec));
-  c1 = _mm256_fmadd_pd(swap_other<K>(t1), svec, _mm256_mul_pd(t1, cvec));
-  c2 = _mm256_fmadd_pd(swap_other<K>(t2), svec, _mm256_mul_pd(t2, cvec));
+  c0 = fmadd(swap_other<K>(t0), svec, mul(t0, cvec));
+  c1 = fmadd(swap_other<K>(t1), svec, mul(t1, cvec));
+  c2 = fmadd(swap_other<K>(t2), svec, mul(t2, cvec));
   r = load3(XT.r.data());
 }
 /// Writes a transform given by the columns of E and r.
-SPATIAL_INLINE void store_transform(Transform<double>& X, V c0, V c1, V c2, V r) {
-  double* x = X.E.data();
+template <class S>
+SPATIAL_INLINE void store_transform(Transform<S>& X, Vec<S> c0, Vec<S> c1, Vec<S> c2, Vec<S> r) {
+  S* x = X.E.data();
   store4(x, c0);
   store4(x + 3, c1);
   store4(x + 6, c2);
@@ -183,21 +274,23 @@ SPATIAL_INLINE void store_transform(Transform<double>& X, V c0, V c1, V c2, V r)
 }
 
 /// ⁱX_λ of body i (compose<K>) into `data.X_up[i]`, and E by columns and by rows.
-template <int K, class M, class D>
+template <int K, class M, class D, class V>
 SPATIAL_INLINE void joint_transform(const M& model, D& data, int i, V col[3], V row[3], V& r) {
   compose<K>(model.tree_transform(i), data.cos_q[i], data.sin_q[i], col[0], col[1], col[2], r);
   store_transform(data.X_up[static_cast<std::size_t>(i)], col[0], col[1], col[2], r);
   transpose(col[0], col[1], col[2], row[0], row[1], row[2]);
 }
 /// X m = [E ω; E (v − r × ω)], E by columns.
+template <class V>
 SPATIAL_INLINE void apply_motion(const V col[3], V r, V mw, V mv, V& ow, V& ov) {
   ow = comb(col[0], col[1], col[2], mw);
-  ov = comb(col[0], col[1], col[2], _mm256_sub_pd(mv, cross(r, mw)));
+  ov = comb(col[0], col[1], col[2], sub(mv, cross(r, mw)));
 }
 /// Xᵀ f = [Eᵀ n + r × Eᵀ f; Eᵀ f], E by rows.
+template <class V>
 SPATIAL_INLINE void apply_force_inverse(const V row[3], V r, V fn, V ff, V& on, V& of) {
   of = comb(row[0], row[1], row[2], ff);
-  on = _mm256_add_pd(comb(row[0], row[1], row[2], fn), cross(r, of));
+  on = add(comb(row[0], row[1], row[2], fn), cross(r, of));
 }
 
 /// Keeps a per-body workspace in memory. Without this clang promotes every element of the (small, constant-indexed)
@@ -211,8 +304,9 @@ SPATIAL_INLINE void for_each_index(F& f, std::integer_sequence<int, I...>) {
 }
 
 /// Per-body values of one RNEA call, kept in registers' form between the passes.
-template <int NB>
+template <int NB, class S>
 struct RneaWork {
+  using V = Vec<S>;
   V vw[NB], vv[NB];    // velocity
   V aw[NB], av[NB];    // acceleration
   V fn[NB], ff[NB];    // force
@@ -223,19 +317,20 @@ struct RneaWork {
 template <unsigned Terms, class S, class T, class Q, class QD, class QDD, class Out, class Root>
 void rnea(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q,
           const Eigen::MatrixBase<QD>& qd, const Eigen::MatrixBase<QDD>& qdd, Out& tau, const Root& root) {
+  using V = Vec<S>;
   constexpr bool G = (Terms & 1u) != 0;
   constexpr bool Vel = (Terms & 2u) != 0;
   constexpr bool A = (Terms & 4u) != 0;
   constexpr bool R = Root::floating;  // a moving root (floating base): its v and a start the recursion
   constexpr int NB = T::size;
-  static_assert(sizeof(Transform<double>) == 12 * sizeof(double) && sizeof(Motion<double>) == 6 * sizeof(double) &&
-                    sizeof(Force<double>) == 6 * sizeof(double) && sizeof(Inertia<double>) == 13 * sizeof(double),
+  static_assert(sizeof(Transform<S>) == 12 * sizeof(S) && sizeof(Motion<S>) == 6 * sizeof(S) &&
+                    sizeof(Force<S>) == 6 * sizeof(S) && sizeof(Inertia<S>) == 13 * sizeof(S),
                 "the AVX2 kernels assume unpadded spatial types");
   sincos_all<S>(q, data.cos_q, data.sin_q, NB);
-  RneaWork<NB> w;
+  RneaWork<NB, S> w;
   keep_in_memory(&w);
-  const V g0 = _mm256_sub_pd(zero(), load3(model.gravity().data()));  // a₀ = −a_g = [0; −g]
-  V rvw = zero(), rvv = zero(), raw = zero(), rav = zero(), rfn = zero(), rff = zero();
+  const V g0 = sub(zero<V>(), load3(model.gravity().data()));  // a₀ = −a_g = [0; −g]
+  V rvw = zero<V>(), rvv = zero<V>(), raw = zero<V>(), rav = zero<V>(), rfn = zero<V>(), rff = zero<V>();
   if constexpr (R) {
     rvw = load3(root.v.w.data()), rvv = load3(root.v.v.data());
     raw = load3(root.a.w.data()), rav = load3(root.a.v.data());
@@ -248,11 +343,11 @@ void rnea(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>
     V col[3], r;
     joint_transform<K>(model, data, i, col, w.row[i], r);
 
-    V vw = zero(), vv = zero(), aw = zero(), av = zero();
+    V vw = zero<V>(), vv = zero<V>(), aw = zero<V>(), av = zero<V>();
     if constexpr (Vel) {
       if constexpr (p >= 0) apply_motion(col, r, w.vw[p], w.vv[p], vw, vv);
       else if constexpr (R) apply_motion(col, r, rvw, rvv, vw, vv);
-      vw = _mm256_add_pd(vw, axis<K>(double(qd[i])));
+      vw = add(vw, axis<K>(S(qd[i])));
       w.vw[i] = vw;
       w.vv[i] = vv;
     }
@@ -263,25 +358,25 @@ void rnea(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>
     } else if constexpr (G) {
       av = comb(col[0], col[1], col[2], g0);
     }
-    if constexpr (A) aw = _mm256_add_pd(aw, axis<K>(double(qdd[i])));
+    if constexpr (A) aw = add(aw, axis<K>(S(qdd[i])));
     if constexpr (Vel) {
       // + v × S q̇ = [ω × e_K; v × e_K] q̇
-      const V sq = _mm256_mul_pd(sign<K>(), bcast(double(qd[i])));
-      aw = _mm256_fmadd_pd(swap_other<K>(vw), sq, aw);
-      av = _mm256_fmadd_pd(swap_other<K>(vv), sq, av);
+      const V sq = mul(sign<K, V>(), bcast(S(qd[i])));
+      aw = fmadd(swap_other<K>(vw), sq, aw);
+      av = fmadd(swap_other<K>(vv), sq, av);
     }
     w.aw[i] = aw;
     w.av[i] = av;
 
     // f = I a + v ×* (I v), I m = [Ī ω + h × v; m v − h × ω]
-    const Inertia<double>& In = model.inertia(i);
+    const Inertia<S>& In = model.inertia(i);
     const V h = load4(In.h.data());
-    const double* J = In.I.data();
+    const S* J = In.I.data();
     const V j0 = load4(J), j1 = load4(J + 3), j2 = load3(J + 6);
     const V m = bcast(In.m);
     auto inertia_times = [&](V mw, V mv, V& on, V& of) {
-      on = _mm256_add_pd(comb(j0, j1, j2, mw), cross(h, mv));
-      of = _mm256_fmsub_pd(m, mv, cross(h, mw));
+      on = add(comb(j0, j1, j2, mw), cross(h, mv));
+      of = fmsub(m, mv, cross(h, mw));
     };
     V fn, ff;
     inertia_times(aw, av, fn, ff);
@@ -289,8 +384,8 @@ void rnea(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>
       V pn, pf;
       inertia_times(vw, vv, pn, pf);
       // v ×* p = [ω × n + v × f; ω × f]
-      fn = _mm256_add_pd(fn, _mm256_add_pd(cross(vw, pn), cross(vv, pf)));
-      ff = _mm256_add_pd(ff, cross(vw, pf));
+      fn = add(fn, add(cross(vw, pn), cross(vv, pf)));
+      ff = add(ff, cross(vw, pf));
     }
     w.fn[i] = fn;
     w.ff[i] = ff;
@@ -315,20 +410,20 @@ void rnea(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>
     if constexpr (p >= 0) {
       V ang, lin;
       apply_force_inverse(w.row[i], load3(model.tree_transform(i).r.data()), fn, ff, ang, lin);
-      w.fn[p] = _mm256_add_pd(w.fn[p], ang);
-      w.ff[p] = _mm256_add_pd(w.ff[p], lin);
+      w.fn[p] = add(w.fn[p], ang);
+      w.ff[p] = add(w.ff[p], lin);
     } else if constexpr (R) {
       V ang, lin;
       apply_force_inverse(w.row[i], load3(model.tree_transform(i).r.data()), fn, ff, ang, lin);
-      rfn = _mm256_add_pd(rfn, ang);
-      rff = _mm256_add_pd(rff, lin);
+      rfn = add(rfn, ang);
+      rff = add(rff, lin);
     }
   };
 
   for_each_index(forward, std::make_integer_sequence<int, NB>{});
   for_each_index(backward, std::make_integer_sequence<int, NB>{});
   if constexpr (R) {
-    Force<double> add;
+    Force<S> add;
     store4(add.n.data(), rfn);
     store3(add.f.data(), rff);
     *root.f += add;
@@ -352,6 +447,7 @@ SPATIAL_INLINE void for_each_ancestor(F& f) {
 /// subspaces in base coordinates into `data.S_base`, as crba's first pass computes them.
 template <class S, class T>
 void forward_kinematics(const Model<S, T>& model, Data<S, T>& data) {
+  using V = Vec<S>;
   constexpr int NB = T::size;
   struct Body {
     V col[3], row[3], r;  // ⁱX_0: columns and rows of E, r
@@ -369,7 +465,7 @@ void forward_kinematics(const Model<S, T>& model, Data<S, T>& data) {
     if constexpr (p >= 0) {
       const Body& P = b[p];
       for (int c = 0; c < 3; ++c) B.col[c] = comb(ucol[0], ucol[1], ucol[2], P.col[c]);
-      B.r = _mm256_add_pd(P.r, comb(P.row[0], P.row[1], P.row[2], ur));
+      B.r = add(P.r, comb(P.row[0], P.row[1], P.row[2], ur));
       transpose(B.col[0], B.col[1], B.col[2], B.row[0], B.row[1], B.row[2]);
     } else {
       for (int c = 0; c < 3; ++c) B.col[c] = ucol[c], B.row[c] = urow[c];
@@ -384,16 +480,17 @@ void forward_kinematics(const Model<S, T>& model, Data<S, T>& data) {
 
 /// Columns offset … offset + n − 1 of a 6-row column-major Jacobian (rows linear first) from n motion subspaces in
 /// root coordinates, moved to world coordinates by X0 = ⁰X_w: ω = E0ᵀ s_ω, v = E0ᵀ s_v + r0 × ω.
-template <int N>
-SPATIAL_INLINE void world_jacobian_columns(const Motion<double>* s, const Transform<double>& X0, double* J, int offset) {
+template <int N, class S>
+SPATIAL_INLINE void world_jacobian_columns(const Motion<S>* s, const Transform<S>& X0, S* J, int offset) {
+  using V = Vec<S>;
   V row[3];
   transpose(load3z(X0.E.data()), load3z(X0.E.data() + 3), load3(X0.E.data() + 6), row[0], row[1], row[2]);
   // transpose gives the rows of E0, i.e. the columns of E0ᵀ: comb with them is E0ᵀ x.
   const V r0 = load3(X0.r.data());
   for (int c = 0; c < N; ++c) {
     const V w = comb(row[0], row[1], row[2], load3z(s[c].w.data()));
-    const V v = _mm256_add_pd(comb(row[0], row[1], row[2], load3z(s[c].v.data())), cross(r0, w));
-    double* out = J + 6 * (offset + c);
+    const V v = add(comb(row[0], row[1], row[2], load3z(s[c].v.data())), cross(r0, w));
+    S* out = J + 6 * (offset + c);
     store4(out, v);
     store3(out + 3, w);
   }
@@ -404,6 +501,7 @@ SPATIAL_INLINE void world_jacobian_columns(const Motion<double>* s, const Transf
 /// a 4-lane value that two stores wrote moments ago stalls until they retire, which costs more than the rotation.
 template <class S, class T, class Sink>
 void crba(const Model<S, T>& model, Data<S, T>& data, Sink& sink) {
+  using V = Vec<S>;
   constexpr int NB = T::size;
   constexpr bool Out = std::decay_t<Sink>::active;
   struct Body {
@@ -411,7 +509,7 @@ void crba(const Model<S, T>& model, Data<S, T>& data, Sink& sink) {
     V col[3], row[3], r;     // ⁱX_0
     V sw, sv;                // Sᵢ in base coordinates
     V ih, ic[3];             // composite inertia: h and the columns of Ī
-    double im;               // and m
+    S im;               // and m
   };
   Body b[NB];
   keep_in_memory(b);
@@ -427,7 +525,7 @@ void crba(const Model<S, T>& model, Data<S, T>& data, Sink& sink) {
     if constexpr (p >= 0) {
       const Body& P = b[p];
       for (int c = 0; c < 3; ++c) B.col[c] = comb(B.ucol[0], B.ucol[1], B.ucol[2], P.col[c]);
-      B.r = _mm256_add_pd(P.r, comb(P.row[0], P.row[1], P.row[2], B.ur));
+      B.r = add(P.r, comb(P.row[0], P.row[1], P.row[2], B.ur));
       transpose(B.col[0], B.col[1], B.col[2], B.row[0], B.row[1], B.row[2]);
     } else {
       for (int c = 0; c < 3; ++c) B.col[c] = B.ucol[c], B.row[c] = B.urow[c];
@@ -439,7 +537,7 @@ void crba(const Model<S, T>& model, Data<S, T>& data, Sink& sink) {
     B.sv = cross(B.r, B.sw);
     store4(data.S_base[k].w.data(), B.sw);
     store3(data.S_base[k].v.data(), B.sv);
-    const Inertia<double>& In = model.inertia(i);
+    const Inertia<S>& In = model.inertia(i);
     B.im = In.m;
     B.ih = load3z(In.h.data());
     B.ic[0] = load3z(In.I.data());
@@ -453,7 +551,7 @@ void crba(const Model<S, T>& model, Data<S, T>& data, Sink& sink) {
     const auto k = static_cast<std::size_t>(i);
     const Body& B = b[i];
     // Iᶜᵢ is complete: write it out.
-    Inertia<double>& out = data.Ic[k];
+    Inertia<S>& out = data.Ic[k];
     out.m = B.im;
     store4(out.h.data(), B.ih);
     store4(out.I.data(), B.ic[0]);
@@ -463,20 +561,20 @@ void crba(const Model<S, T>& model, Data<S, T>& data, Sink& sink) {
       // ⁱX_λᵀ Iᶜ ⁱX_λ (Inertia::transformed_inverse): h′ = Eᵀ h, Ī′ = Eᵀ Ī E, g = h′ + (m/2) r,
       // Ī = Ī′ − (r gᵀ + g rᵀ) + 2 (g·r) 1, h = h′ + m r.
       const V hp = comb(B.urow[0], B.urow[1], B.urow[2], B.ih);
-      const V g = _mm256_fmadd_pd(bcast(0.5 * B.im), B.ur, hp);
-      const V d = bcast(2.0 * hsum(_mm256_mul_pd(g, B.ur)));
+      const V g = fmadd(bcast(S(0.5) * B.im), B.ur, hp);
+      const V d = bcast(S(2) * hsum(mul(g, B.ur)));
       Body& P = b[p];
       auto column = [&](auto C) SPATIAL_LAMBDA_INLINE {
         constexpr int c = decltype(C)::value;
         const V ie = comb(B.ic[0], B.ic[1], B.ic[2], B.ucol[c]);  // column c of Ī E
         V col = comb(B.urow[0], B.urow[1], B.urow[2], ie);         // of Eᵀ Ī E
-        col = _mm256_fnmadd_pd(B.ur, lane<c>(g), _mm256_fnmadd_pd(g, lane<c>(B.ur), col));
-        P.ic[c] = _mm256_add_pd(P.ic[c], _mm256_add_pd(col, only<c>(d)));
+        col = fnmadd(B.ur, lane<c>(g), fnmadd(g, lane<c>(B.ur), col));
+        P.ic[c] = add(P.ic[c], add(col, only<c>(d)));
       };
       column(std::integral_constant<int, 0>{});
       column(std::integral_constant<int, 1>{});
       column(std::integral_constant<int, 2>{});
-      P.ih = _mm256_add_pd(P.ih, _mm256_fmadd_pd(bcast(B.im), B.ur, hp));
+      P.ih = add(P.ih, fmadd(bcast(B.im), B.ur, hp));
       P.im += B.im;
     }
   };
@@ -487,7 +585,7 @@ void crba(const Model<S, T>& model, Data<S, T>& data, Sink& sink) {
     const Body& B = b[i];
     // F = Iᶜ S = [Ī e_K; e_K × h]; Hᵢᵢ = Sᵀ F = Ī_KK.
     const V fn = B.ic[K];
-    const V ff = _mm256_mul_pd(swap_other<K>(B.ih), _mm256_sub_pd(zero(), sign<K>()));
+    const V ff = mul(swap_other<K>(B.ih), sub(zero<V>(), sign<K, V>()));
     if constexpr (Out) sink.entry(i, i, get<K>(fn));
     else data.H(i, i) = get<K>(fn);
     if constexpr (T::parent[i] >= 0 || Out) {
@@ -495,14 +593,14 @@ void crba(const Model<S, T>& model, Data<S, T>& data, Sink& sink) {
       V n0, f0;
       apply_force_inverse(B.row, B.r, fn, ff, n0, f0);
       if constexpr (Out) {
-        Force<double> F0;
+        Force<S> F0;
         store4(F0.n.data(), n0);
         store3(F0.f.data(), f0);
         sink(i, F0);
       }
       auto entry = [&](auto J) SPATIAL_LAMBDA_INLINE {
         constexpr int j = decltype(J)::value;
-        const double hij = hsum(_mm256_fmadd_pd(b[j].sw, n0, _mm256_mul_pd(b[j].sv, f0)));
+        const S hij = hsum(fmadd(b[j].sw, n0, mul(b[j].sv, f0)));
         if constexpr (Out) {
           sink.entry(i, j, hij);
         } else {
@@ -520,7 +618,8 @@ void crba(const Model<S, T>& model, Data<S, T>& data, Sink& sink) {
 }
 
 /// Writes a motion or force vector from its two 3-vectors.
-SPATIAL_INLINE void store_pair(double* p, V x, V y) {
+template <class S, class V>
+SPATIAL_INLINE void store_pair(S* p, V x, V y) {
   store4(p, x);
   store3(p + 3, y);
 }
@@ -531,16 +630,17 @@ SPATIAL_INLINE void store_pair(double* p, V x, V y) {
 template <bool G, bool Vel, class S, class T, class Q, class QD, class Tau, class Root>
 void aba(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<QD>& qd,
          const Eigen::MatrixBase<Tau>& tau, const Root& root) {
+  using V = Vec<S>;
   constexpr int NB = T::size;
   constexpr bool R = Root::floating;  // a moving root: pass 1 from its velocity, pass 2 into it, pass 3 from solve()
-  static_assert(sizeof(ArticulatedInertia<double>) == 27 * sizeof(double), "unpadded articulated inertia");
+  static_assert(sizeof(ArticulatedInertia<S>) == 27 * sizeof(S), "unpadded articulated inertia");
   struct Body {
     V col[3], row[3], r;  // ⁱX_λ: columns and rows of E, r
     V vw, vv, cw, cv;     // velocity and c = v × S q̇
     V pn, pf;             // bias force pᴬ (children added in pass 2)
     V A[3], B[3], C[3];   // articulated inertia, by columns (children added in pass 2)
     V un, uf;             // U = Iᴬ S
-    double dinv, u;
+    S dinv, u;
     V aw, av;             // acceleration
   };
   Body b[NB];
@@ -548,10 +648,10 @@ void aba(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>&
   sincos_all<S>(q, data.cos_q, data.sin_q, NB);
   (void)qd;
   Body rootb;  // the moving root: what its children pass to it in pass 2 (floating base only)
-  V rvw = zero(), rvv = zero();
+  V rvw = zero<V>(), rvv = zero<V>();
   if constexpr (R) {
-    for (int j = 0; j < 3; ++j) rootb.A[j] = rootb.B[j] = rootb.C[j] = zero();
-    rootb.pn = rootb.pf = zero();
+    for (int j = 0; j < 3; ++j) rootb.A[j] = rootb.B[j] = rootb.C[j] = zero<V>();
+    rootb.pn = rootb.pf = zero<V>();
     rvw = load3(root.v.w.data()), rvv = load3(root.v.v.data());
   }
 
@@ -562,44 +662,44 @@ void aba(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>&
     const auto k = static_cast<std::size_t>(i);
     Body& B = b[i];
     joint_transform<K>(model, data, i, B.col, B.row, B.r);
-    const Inertia<double>& In = model.inertia(i);
+    const Inertia<S>& In = model.inertia(i);
     const V h = load3z(In.h.data());
     B.A[0] = load3z(In.I.data());
     B.A[1] = load3z(In.I.data() + 3);
     B.A[2] = load3(In.I.data() + 6);
     // B = h̃: column j is h × e_j.  C = m 1.
-    B.B[0] = _mm256_mul_pd(swap_other<0>(h), sign<0>());
-    B.B[1] = _mm256_mul_pd(swap_other<1>(h), sign<1>());
-    B.B[2] = _mm256_mul_pd(swap_other<2>(h), sign<2>());
+    B.B[0] = mul(swap_other<0>(h), sign<0, V>());
+    B.B[1] = mul(swap_other<1>(h), sign<1, V>());
+    B.B[2] = mul(swap_other<2>(h), sign<2, V>());
     const V m = bcast(In.m);
     B.C[0] = only<0>(m);
     B.C[1] = only<1>(m);
     B.C[2] = only<2>(m);
     if constexpr (Vel) {
-      V vw = zero(), vv = zero();
+      V vw = zero<V>(), vv = zero<V>();
       if constexpr (p >= 0) {
         const Body& P = b[p];
         apply_motion(B.col, B.r, P.vw, P.vv, vw, vv);
       } else if constexpr (R) {
         apply_motion(B.col, B.r, rvw, rvv, vw, vv);
       }
-      const double qdi = double(qd[i]);
-      vw = _mm256_add_pd(vw, axis<K>(qdi));
-      const V sq = _mm256_mul_pd(sign<K>(), bcast(qdi));
+      const S qdi = S(qd[i]);
+      vw = add(vw, axis<K>(qdi));
+      const V sq = mul(sign<K, V>(), bcast(qdi));
       B.vw = vw;
       B.vv = vv;
-      B.cw = _mm256_mul_pd(swap_other<K>(vw), sq);
-      B.cv = _mm256_mul_pd(swap_other<K>(vv), sq);
+      B.cw = mul(swap_other<K>(vw), sq);
+      B.cv = mul(swap_other<K>(vv), sq);
       // pᴬ = v ×* I v, I v = [Ī ω + h × v; m v − h × ω]
-      const V in = _mm256_add_pd(comb(B.A[0], B.A[1], B.A[2], vw), cross(h, vv));
-      const V jf = _mm256_fmsub_pd(m, vv, cross(h, vw));
-      B.pn = _mm256_add_pd(cross(vw, in), cross(vv, jf));
+      const V in = add(comb(B.A[0], B.A[1], B.A[2], vw), cross(h, vv));
+      const V jf = fmsub(m, vv, cross(h, vw));
+      B.pn = add(cross(vw, in), cross(vv, jf));
       B.pf = cross(vw, jf);
       store_pair(data.v[k].w.data(), vw, vv);
       store_pair(data.c[k].w.data(), B.cw, B.cv);
     } else {
-      B.pn = zero();
-      B.pf = zero();
+      B.pn = zero<V>();
+      B.pf = zero<V>();
     }
   };
 
@@ -610,7 +710,7 @@ void aba(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>&
     const auto k = static_cast<std::size_t>(i);
     Body& B = b[i];
     // Iᴬ and pᴬ of body i are complete.
-    double* ia = data.IA[k].A.data();
+    S* ia = data.IA[k].A.data();
     store4(ia, B.A[0]);
     store4(ia + 3, B.A[1]);
     store4(ia + 6, B.A[2]);
@@ -626,43 +726,43 @@ void aba(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>&
     const V brow[3] = {br0, br1, br2};
     B.un = B.A[K];
     B.uf = brow[K];
-    B.dinv = 1.0 / get<K>(B.un);
-    B.u = double(tau[i]) - get<K>(B.pn);
+    B.dinv = S(1) / get<K>(B.un);
+    B.u = S(tau[i]) - get<K>(B.pn);
     store_pair(data.U[k].n.data(), B.un, B.uf);
     data.Dinv[k] = B.dinv;
     data.u[k] = B.u;
     if constexpr (p >= 0 || R) {
       // Iᵃ = Iᴬ − U Uᵀ / D
       const V d = bcast(B.dinv);
-      const V wn = _mm256_mul_pd(B.un, d), wf = _mm256_mul_pd(B.uf, d);
+      const V wn = mul(B.un, d), wf = mul(B.uf, d);
       V a[3] = {B.A[0], B.A[1], B.A[2]}, bc[3] = {B.B[0], B.B[1], B.B[2]}, c[3] = {B.C[0], B.C[1], B.C[2]};
       V br[3] = {br0, br1, br2};
       auto rank1 = [&](auto J) SPATIAL_LAMBDA_INLINE {
         constexpr int j = decltype(J)::value;
-        a[j] = _mm256_fnmadd_pd(B.un, lane<j>(wn), a[j]);
-        bc[j] = _mm256_fnmadd_pd(B.un, lane<j>(wf), bc[j]);
-        c[j] = _mm256_fnmadd_pd(B.uf, lane<j>(wf), c[j]);
-        br[j] = _mm256_fnmadd_pd(B.uf, lane<j>(wn), br[j]);
+        a[j] = fnmadd(B.un, lane<j>(wn), a[j]);
+        bc[j] = fnmadd(B.un, lane<j>(wf), bc[j]);
+        c[j] = fnmadd(B.uf, lane<j>(wf), c[j]);
+        br[j] = fnmadd(B.uf, lane<j>(wn), br[j]);
       };
       rank1(std::integral_constant<int, 0>{});
       rank1(std::integral_constant<int, 1>{});
       rank1(std::integral_constant<int, 2>{});
       // Iᵃ maps e_K to zero: row and column K of A and row K of B are exactly zero, not round-off (as in
       // ArticulatedInertia::subtract_outer<K>; the round-off would otherwise reach the parent and cost digits).
-      a[K] = zero();
-      br[K] = zero();
+      a[K] = zero<V>();
+      br[K] = zero<V>();
       for (int j = 0; j < 3; ++j) {
         a[j] = clear<K>(a[j]);
         bc[j] = clear<K>(bc[j]);
       }
       // pᵃ = pᴬ + Iᵃ c + U u / D
       const V ud = bcast(B.u * B.dinv);
-      V pan = _mm256_fmadd_pd(B.un, ud, B.pn);
-      V paf = _mm256_fmadd_pd(B.uf, ud, B.pf);
+      V pan = fmadd(B.un, ud, B.pn);
+      V paf = fmadd(B.uf, ud, B.pf);
       if constexpr (Vel) {
         // c = v × S q̇ has no component K in either half (ArticulatedInertia::mul_null<K>).
-        pan = _mm256_add_pd(pan, _mm256_add_pd(comb_skip<K>(a[0], a[1], a[2], B.cw), comb_skip<K>(bc[0], bc[1], bc[2], B.cv)));
-        paf = _mm256_add_pd(paf, _mm256_add_pd(comb_skip<K>(br[0], br[1], br[2], B.cw), comb_skip<K>(c[0], c[1], c[2], B.cv)));
+        pan = add(pan, add(comb_skip<K>(a[0], a[1], a[2], B.cw), comb_skip<K>(bc[0], bc[1], bc[2], B.cv)));
+        paf = add(paf, add(comb_skip<K>(br[0], br[1], br[2], B.cw), comb_skip<K>(c[0], c[1], c[2], B.cv)));
       }
       // Xᵀ Iᵃ X (ArticulatedInertia::transformed_inverse): a = Eᵀ A E, b = Eᵀ B E, c = Eᵀ C E;
       // B′ = b + r̃ c, A′ = a − B′ r̃ + r̃ bᵀ, C′ = c.
@@ -678,10 +778,10 @@ void aba(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>&
         const V aj = comb_skip<K>(B.row[0], B.row[1], B.row[2], comb_skip<K>(a[0], a[1], a[2], e));
         rb[j] = comb_skip<K>(B.row[0], B.row[1], B.row[2], comb(bc[0], bc[1], bc[2], e));
         const V cj = comb(B.row[0], B.row[1], B.row[2], comb(c[0], c[1], c[2], e));
-        rbp[j] = _mm256_add_pd(rb[j], cross(B.r, cj));
-        P.A[j] = _mm256_add_pd(P.A[j], aj);
-        P.B[j] = _mm256_add_pd(P.B[j], rbp[j]);
-        P.C[j] = _mm256_add_pd(P.C[j], cj);
+        rbp[j] = add(rb[j], cross(B.r, cj));
+        P.A[j] = add(P.A[j], aj);
+        P.B[j] = add(P.B[j], rbp[j]);
+        P.C[j] = add(P.C[j], cj);
       };
       rotate(std::integral_constant<int, 0>{});
       rotate(std::integral_constant<int, 1>{});
@@ -690,26 +790,26 @@ void aba(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>&
       transpose(rb[0], rb[1], rb[2], bt0, bt1, bt2);
       const V r0 = lane<0>(B.r), r1 = lane<1>(B.r), r2 = lane<2>(B.r);
       // −B′ r̃ by columns: −(r₂ B′₁ − r₁ B′₂), −(r₀ B′₂ − r₂ B′₀), −(r₁ B′₀ − r₀ B′₁); + r × (row j of b).
-      P.A[0] = _mm256_add_pd(P.A[0], _mm256_sub_pd(cross(B.r, bt0), _mm256_fmsub_pd(r2, rbp[1], _mm256_mul_pd(r1, rbp[2]))));
-      P.A[1] = _mm256_add_pd(P.A[1], _mm256_sub_pd(cross(B.r, bt1), _mm256_fmsub_pd(r0, rbp[2], _mm256_mul_pd(r2, rbp[0]))));
-      P.A[2] = _mm256_add_pd(P.A[2], _mm256_sub_pd(cross(B.r, bt2), _mm256_fmsub_pd(r1, rbp[0], _mm256_mul_pd(r0, rbp[1]))));
+      P.A[0] = add(P.A[0], sub(cross(B.r, bt0), fmsub(r2, rbp[1], mul(r1, rbp[2]))));
+      P.A[1] = add(P.A[1], sub(cross(B.r, bt1), fmsub(r0, rbp[2], mul(r2, rbp[0]))));
+      P.A[2] = add(P.A[2], sub(cross(B.r, bt2), fmsub(r1, rbp[0], mul(r0, rbp[1]))));
       // pᴬ_λ += ⁱX_λᵀ pᵃ = [Eᵀ n + r × Eᵀ f; Eᵀ f]
       V ang, lin;
       apply_force_inverse(B.row, B.r, pan, paf, ang, lin);
-      P.pn = _mm256_add_pd(P.pn, ang);
-      P.pf = _mm256_add_pd(P.pf, lin);
+      P.pn = add(P.pn, ang);
+      P.pf = add(P.pf, lin);
     }
   };
 
-  const V g0 = _mm256_sub_pd(zero(), load3(model.gravity().data()));
-  V raw = zero(), rav = zero();
+  const V g0 = sub(zero<V>(), load3(model.gravity().data()));
+  V raw = zero<V>(), rav = zero<V>();
   auto pass3 = [&](auto I) SPATIAL_LAMBDA_INLINE {
     constexpr int i = decltype(I)::value;
     constexpr int p = T::parent[i];
     constexpr int K = revolute_axis(T::joint[i]);
     const auto k = static_cast<std::size_t>(i);
     Body& B = b[i];
-    V aw = zero(), av = zero();
+    V aw = zero<V>(), av = zero<V>();
     if constexpr (p >= 0) {
       const Body& P = b[p];
       apply_motion(B.col, B.r, P.aw, P.av, aw, av);
@@ -719,12 +819,12 @@ void aba(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>&
       av = comb(B.col[0], B.col[1], B.col[2], g0);
     }
     if constexpr (Vel) {
-      aw = _mm256_add_pd(aw, B.cw);
-      av = _mm256_add_pd(av, B.cv);
+      aw = add(aw, B.cw);
+      av = add(av, B.cv);
     }
-    const double qddi = (B.u - hsum(_mm256_fmadd_pd(B.un, aw, _mm256_mul_pd(B.uf, av)))) * B.dinv;
+    const S qddi = (B.u - hsum(fmadd(B.un, aw, mul(B.uf, av)))) * B.dinv;
     data.qdd[i] = qddi;
-    aw = _mm256_add_pd(aw, axis<K>(qddi));
+    aw = add(aw, axis<K>(qddi));
     B.aw = aw;
     B.av = av;
     store_pair(data.a[k].w.data(), aw, av);
@@ -734,8 +834,8 @@ void aba(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>&
   for_each_index(pass2, std::make_integer_sequence<int, NB>{});
   if constexpr (R) {
     // The root's articulated inertia and bias force are complete: add them in, solve for its acceleration.
-    ArticulatedInertia<double> IA;
-    double* ia = IA.A.data();
+    ArticulatedInertia<S> IA;
+    S* ia = IA.A.data();
     store4(ia, rootb.A[0]);
     store4(ia + 3, rootb.A[1]);
     store4(ia + 6, rootb.A[2]);
@@ -746,10 +846,10 @@ void aba(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>&
     store4(ia + 21, rootb.C[1]);
     store3(ia + 24, rootb.C[2]);
     *root.IA += IA;
-    Force<double> pA;
+    Force<S> pA;
     store_pair(pA.n.data(), rootb.pn, rootb.pf);
     *root.pA += pA;
-    const Motion<double> a0 = root.solve();
+    const Motion<S> a0 = root.solve();
     raw = load3(a0.w.data());
     rav = load3(a0.v.data());
   } else {

@@ -57,7 +57,7 @@ inline constexpr bool kEveryTermCombination = SPATIAL_SIMD_TEST_ALL_TREES || std
 
 static_assert(detail::simd_enabled<double, Rev9>());
 static_assert(detail::simd_enabled<double, models::hoap3_stance_right::Tree>());
-static_assert(!detail::simd_enabled<float, Rev9>(), "float takes the scalar path");
+static_assert(detail::simd_enabled<float, Rev9>(), "float takes the same kernels (four floats in 128-bit registers)");
 static_assert(!detail::simd_enabled<double, DynamicTree>(), "run-time trees take the scalar path");
 static_assert(!detail::simd_enabled<double, static_trees::Branched8>(), "other joint types: scalar path");
 
@@ -74,21 +74,21 @@ int depth() {
 
 /// Both paths evaluate the same expressions in a different order (and with fused multiply–adds), so every output
 /// may differ by a few roundings per level of the tree relative to the largest value it is built from: the bound
-/// is 16 (depth + 1) u times the largest magnitude of that output over all bodies.
-template <class TreeT>
+/// is 16 (depth + 1) u times the largest magnitude of that output over all bodies (u of the scalar S).
+template <class TreeT, class S = double>
 double tolerance() {
-  return 16.0 * (depth<TreeT>() + 1) * std::numeric_limits<double>::epsilon();
+  return 16.0 * (depth<TreeT>() + 1) * double(std::numeric_limits<S>::epsilon());
 }
 
-template <class TreeT>
+template <class TreeT, class S = double>
 struct Compare {
-  double tol = tolerance<TreeT>();
+  double tol = tolerance<TreeT, S>();
   Compare() = default;
   explicit Compare(double t) : tol(t) {}
   template <class A, class B>
   void operator()(const char* what, int body, const Eigen::MatrixBase<A>& simd, const Eigen::MatrixBase<B>& scalar,
                   double scale) const {
-    const double diff = (simd - scalar).cwiseAbs().maxCoeff();
+    const double diff = double((simd - scalar).cwiseAbs().maxCoeff());
     EXPECT_LE(diff, tol * std::max(scale, 1.0)) << what << " of body " << body << "\nsimd:   " << simd.transpose()
                                                 << "\nscalar: " << scalar.transpose();
   }
