@@ -65,7 +65,6 @@ TEST(SimdCrba, RandomTrees) {
 TEST(SimdCrba, Float) {
   compare_crba(models::hoap3_stance_right::model().cast<float>(), 44, 3.2);
   compare_crba(random_static<Rev9>(61).cast<float>(), 61, 3.2);
-  compare_crba(random_static<RevChain24>(62).cast<float>(), 62, 3.2);
 }
 
 }  // namespace

@@ -116,7 +116,9 @@ TEST(SimdKinematics, FloatingHoap3) { compare_floating(models::hoap3_floating::f
 
 TEST(SimdKinematics, Float) {
   compare_fixed(models::hoap3_stance_right::model().cast<float>(), 86);
-  compare_floating(models::hoap3_floating::floating_model().cast<float>(), 87);
+  const Inertia<double> I0 = Inertia<double>::from_com(2.0, Vector3<double>(0.1, -0.05, 0.02),
+                                                        Vector3<double>(0.02, 0.03, 0.04).asDiagonal());
+  compare_floating(FloatingModel<double, Rev9>(random_static<Rev9>(87), I0).cast<float>(), 87);
 }
 
 TEST(SimdKinematics, RandomTrees) {
