@@ -160,7 +160,9 @@ template <bool Simd = true, class S, class T, class Q>
 void crba_inputs(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q) {
   joint_sincos(model, data, q);
 #if SPATIAL_SIMD_AVX2
-  if constexpr (Simd && simd_enabled<S, T>()) return;
+  if constexpr (Simd && simd_candidate<S, T>()) {
+    if (simd_applies(model)) return;
+  }
 #endif
   for_each_body(model, [&](auto I) { update_transform<false>(model, data, I, q); });
 }
@@ -265,10 +267,12 @@ void rnea_impl(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBa
   constexpr bool R = Root::floating;
   (void)root;
 #if SPATIAL_SIMD_AVX2
-  if constexpr (Simd && !X && simd_enabled<S, T>()) {
-    (void)fext, (void)frame;
-    simd::rnea<Terms>(model, data, q, qd, qdd, tau, root);
-    return;
+  if constexpr (Simd && !X && simd_candidate<S, T>()) {
+    if (simd_applies(model)) {
+      (void)fext, (void)frame;
+      simd::rnea<Terms>(model, data, q, qd, qdd, tau, root);
+      return;
+    }
   }
 #endif
   if constexpr (Terms == kGravity && !X && !R) {
@@ -364,9 +368,11 @@ const typename Data<S, T>::VectorN& gravity_torques(const Model<S, T>& model, Da
   detail::check_sizes(model, "gravity_torques", "q", q);
 #if SPATIAL_SIMD_AVX2
   // The AVX2 RNEA with gravity alone is as fast as the scalar path below under g++ and 10 % faster under clang.
-  if constexpr (detail::simd_enabled<S, T>()) {
-    detail::rnea_impl<detail::kGravity>(model, data, q, q, q, NoExternalForces{}, ForceFrame::Body, data.tau);
-    return data.tau;
+  if constexpr (detail::simd_candidate<S, T>()) {
+    if (detail::simd_applies(model)) {
+      detail::rnea_impl<detail::kGravity>(model, data, q, q, q, NoExternalForces{}, ForceFrame::Body, data.tau);
+      return data.tau;
+    }
   }
 #endif
   detail::gravity_impl<false>(model, data, q, data.tau);
@@ -380,9 +386,11 @@ void forward_kinematics(const Model<S, T>& model, Data<S, T>& data, const Eigen:
   detail::check_sizes(model, "forward_kinematics", "q", q);
   detail::joint_sincos(model, data, q);
 #if SPATIAL_SIMD_AVX2
-  if constexpr (detail::simd_enabled<S, T>()) {
-    detail::simd::forward_kinematics(model, data);  // also leaves data.S_base
-    return;
+  if constexpr (detail::simd_candidate<S, T>()) {
+    if (detail::simd_applies(model)) {
+      detail::simd::forward_kinematics(model, data);  // also leaves data.S_base
+      return;
+    }
   }
 #endif
   for_each_body(model, [&](auto I) { detail::update_transform<true>(model, data, I, q); });
@@ -485,9 +493,11 @@ template <bool Simd = true, class S, class T, class Sink = NoForceSink>
 void crba_impl(const Model<S, T>& model, Data<S, T>& data, Sink&& sink = Sink{}) {
   constexpr bool Out = std::decay_t<Sink>::active;
 #if SPATIAL_SIMD_AVX2
-  if constexpr (Simd && simd_enabled<S, T>()) {
-    simd::crba(model, data, sink);
-    return;
+  if constexpr (Simd && simd_candidate<S, T>()) {
+    if (simd_applies(model)) {
+      simd::crba(model, data, sink);
+      return;
+    }
   }
 #endif
   for_each_body(model, [&](auto I) {
@@ -657,10 +667,12 @@ void aba_impl(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBas
   constexpr bool R = Root::floating;
   (void)root;
 #if SPATIAL_SIMD_AVX2
-  if constexpr (Simd && !X && simd_enabled<S, T>()) {
-    (void)fext, (void)frame;
-    simd::aba<G, V>(model, data, q, qd, tau, root);
-    return;
+  if constexpr (Simd && !X && simd_candidate<S, T>()) {
+    if (simd_applies(model)) {
+      (void)fext, (void)frame;
+      simd::aba<G, V>(model, data, q, qd, tau, root);
+      return;
+    }
   }
 #endif
   const bool base_frame = X && frame == ForceFrame::Base;

@@ -131,6 +131,13 @@ class Model {
     else return joint(I);
   }
   RuntimeJoint<S> joint(int i) const { return RuntimeJoint<S>{joint_type(i), axis_[static_cast<std::size_t>(i)]}; }
+  /// True when every joint is a revolute joint about a coordinate axis (RevoluteX/Y/Z): the trees that the AVX2
+  /// kernels of simd.hpp serve, compile-time or run-time.
+  bool revolute_axes_only() const {
+    for (int i = 0; i < size(); ++i)
+      if (joint_type(i) > JointType::RevoluteZ) return false;
+    return true;
+  }
 
   /// X_T(i): from the parent body's coordinates to joint i's predecessor frame.
   const Transform<S>& tree_transform(int i) const { return Xtree_[static_cast<std::size_t>(i)]; }
@@ -551,6 +558,12 @@ namespace detail {
 template <class S, int N>
 using JointVector = Eigen::Matrix<S, N, 1>;
 constexpr int matrix_dim(int nb) { return (nb != Eigen::Dynamic && nb <= kMaxFixedMatrixSize) ? nb : Eigen::Dynamic; }
+/// 64 aligned bytes of `Data::work`; each body of a run-time tree gets kWorkBlocksPerBody of them (1 KiB: the
+/// largest per-body record, ABA's in double, takes ~0.9 KiB).
+struct alignas(64) WorkBlock {
+  unsigned char bytes[64];
+};
+inline constexpr std::size_t kWorkBlocksPerBody = 16;
 }  // namespace detail
 
 /// Per-call buffers of every algorithm, allocated once here (fixed-size for compile-time trees) and never again.
@@ -580,6 +593,8 @@ struct Data {
     H = MatrixN::Zero(n, n);
     L = MatrixN::Zero(n, n);
     J = decltype(J)::Zero(6, n), dJ = J;
+    if constexpr (!ModelType::is_static && (std::is_same_v<S, double> || std::is_same_v<S, float>))
+      work.resize(static_cast<std::size_t>(n) * detail::kWorkBlocksPerBody);
   }
 
   Array<Transform<S>> X_up{};    ///< ⁱX_λ(i): parent coordinates → body i coordinates
@@ -604,6 +619,9 @@ struct Data {
   Eigen::Matrix<S, 6, NM> J, dJ; ///< kinematics.hpp: joint Jacobians (World, rows linear first) and their J̇
   /// centroidal.hpp: centre of mass, its velocity and acceleration (base coordinates)
   Vector3<S> com = Vector3<S>::Zero(), vcom = Vector3<S>::Zero(), acom = Vector3<S>::Zero();
+  /// Run-time trees in double or float: the per-body workspace of the AVX2 kernels (simd.hpp), which compile-time
+  /// trees keep on the stack.
+  std::vector<detail::WorkBlock> work{};
 };
 
 }  // namespace spatial

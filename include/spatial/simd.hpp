@@ -1,6 +1,8 @@
 #pragma once
 /// \file simd.hpp
-/// AVX2 kernels for RNEA, CRBA, ABA and forward kinematics on compile-time trees, in double and float.
+/// AVX2 kernels for RNEA, CRBA, ABA and forward kinematics, in double and float, on compile-time trees (unrolled
+/// per body) and on run-time trees (a loop that switches once per body on the joint's axis; per-body records in
+/// `Data::work`; the same operations in the same order, so the same results bit for bit).
 ///
 /// The scalar algorithms (algorithms.hpp) spend about one instruction per flop on 3-vector arithmetic. Here every
 /// 3-vector lives in one register (lanes x, y, z and a spare fourth lane: four doubles in 256 bits, four floats in
@@ -12,8 +14,8 @@
 /// written back to `Data` with three-lane stores (or four-lane stores that a later store overwrites).
 ///
 /// Used when the translation unit is compiled with AVX2 and FMA (`-mavx2 -mfma`, `-march=x86-64-v3`, `-march=native`
-/// on such a machine), the scalar is double or float, the tree is a compile-time tree of revolute joints about
-/// coordinate axes (RevoluteX/Y/Z: all reference models), and no external force is given. Everything else takes the
+/// on such a machine), the scalar is double or float, every joint of the tree is revolute about a coordinate axis
+/// (RevoluteX/Y/Z: all reference models, and the HOAP-3 URDF loaded at run time), and no external force is given. Everything else takes the
 /// scalar path. Define SPATIAL_NO_SIMD to always take it. Results agree with the scalar path to rounding
 /// (tests/simd_*.cpp: every term combination, every per-body output, double and float).
 
@@ -23,6 +25,7 @@
 #include "spatial/sincos.hpp"
 
 #include <cstddef>
+#include <new>
 #include <type_traits>
 #include <utility>
 
@@ -45,7 +48,8 @@ constexpr bool all_revolute_axis_aligned(std::index_sequence<I...>) {
   return ((revolute_axis(Tree::joint[I]) >= 0) && ...);
 }
 
-/// True when RNEA (without external forces) and CRBA take the AVX2 path on a Model<S, T> (see the file comment).
+/// True when RNEA (without external forces) and CRBA take the AVX2 path on every Model<S, T> (compile-time trees of
+/// RevoluteX/Y/Z joints; see the file comment).
 template <class S, class T>
 constexpr bool simd_enabled() {
   if constexpr (!SPATIAL_SIMD_AVX2 || !(std::is_same_v<S, double> || std::is_same_v<S, float>) ||
@@ -54,6 +58,19 @@ constexpr bool simd_enabled() {
   } else {
     return all_revolute_axis_aligned<T>(std::make_index_sequence<std::size_t(T::size)>{});
   }
+}
+/// True when the AVX2 path may serve a Model<S, T>: always when `simd_enabled`, and for a run-time tree in double
+/// or float when `simd_applies` (checked per call: one pass over the joint types).
+template <class S, class T>
+constexpr bool simd_candidate() {
+  return simd_enabled<S, T>() || (SPATIAL_SIMD_AVX2 && (std::is_same_v<S, double> || std::is_same_v<S, float>) &&
+                                  !is_static_tree_v<T>);
+}
+template <class S, class T>
+bool simd_applies(const Model<S, T>& model) {
+  if constexpr (simd_enabled<S, T>()) return (void)model, true;
+  else if constexpr (simd_candidate<S, T>()) return model.revolute_axes_only();
+  else return (void)model, false;
 }
 
 #if SPATIAL_SIMD_AVX2
@@ -298,9 +315,83 @@ SPATIAL_INLINE void apply_force_inverse(const V row[3], V r, V fn, V ff, V& on, 
 /// instructions and 10 % more time; with it, ~100. (An empty asm statement that may read and write the array.)
 SPATIAL_INLINE void keep_in_memory(void* p) { __asm__ __volatile__("" : : "r"(p) : "memory"); }
 
+/// Calls f(P) for every proper ancestor P of body J (compile-time indices).
+template <class T, int J, class F>
+SPATIAL_INLINE void for_each_ancestor(F& f) {
+  constexpr int P = T::parent[J];
+  if constexpr (P >= 0) {
+    f(std::integral_constant<int, P>{});
+    for_each_ancestor<T, P>(f);
+  }
+}
+
 template <class F, int... I>
 SPATIAL_INLINE void for_each_index(F& f, std::integer_sequence<int, I...>) {
   (f(std::integral_constant<int, I>{}), ...);
+}
+
+// The body loops of the kernels. On a compile-time tree they are unrolled: f(i, K) gets body i and its joint's axis
+// K as std::integral_constants, so every parent index, axis and array offset is a constant. On a run-time tree
+// (RevoluteX/Y/Z joints only, `simd_applies`) they loop and switch once per body on the joint type to the code
+// for that axis: the same sequence of branches on every call, which the branch predictor learns.
+template <int K>
+using AxisK = std::integral_constant<int, K>;
+template <class S, class T, class F>
+SPATIAL_INLINE void with_axis(const Model<S, T>& model, int i, F& f) {
+  switch (model.joint_type(i)) {
+    case JointType::RevoluteX: f(i, AxisK<0>{}); break;
+    case JointType::RevoluteY: f(i, AxisK<1>{}); break;
+    default: f(i, AxisK<2>{}); break;
+  }
+}
+template <class T, class F, int... I>
+SPATIAL_INLINE void unrolled(F& f, std::integer_sequence<int, I...>) {
+  (f(std::integral_constant<int, I>{}, AxisK<revolute_axis(T::joint[I])>{}), ...);
+}
+template <class T, class F, int... I>
+SPATIAL_INLINE void unrolled_reverse(F& f, std::integer_sequence<int, I...>) {
+  (f(std::integral_constant<int, T::size - 1 - I>{}, AxisK<revolute_axis(T::joint[T::size - 1 - I])>{}), ...);
+}
+/// f(i, K) for bodies 0 … n−1 (parents first).
+template <class S, class T, class F>
+SPATIAL_INLINE void bodies(const Model<S, T>& model, F& f) {
+  if constexpr (is_static_tree_v<T>) unrolled<T>(f, std::make_integer_sequence<int, T::size>{});
+  else for (int i = 0; i < model.size(); ++i) with_axis(model, i, f);
+}
+/// f(i, K) for bodies n−1 … 0 (children first).
+template <class S, class T, class F>
+SPATIAL_INLINE void bodies_reverse(const Model<S, T>& model, F& f) {
+  if constexpr (is_static_tree_v<T>) unrolled_reverse<T>(f, std::make_integer_sequence<int, T::size>{});
+  else for (int i = model.size() - 1; i >= 0; --i) with_axis(model, i, f);
+}
+/// λ(i): a std::integral_constant for a compile-time index of a compile-time tree, else an int.
+template <class S, class T, int I>
+SPATIAL_INLINE constexpr auto parent_of(const Model<S, T>&, std::integral_constant<int, I>) {
+  return std::integral_constant<int, T::parent[I]>{};
+}
+template <class S, class T>
+SPATIAL_INLINE int parent_of(const Model<S, T>& model, int i) {
+  return model.parent(i);
+}
+/// f(j) for every proper ancestor j of body i.
+template <class S, class T, class I, class F>
+SPATIAL_INLINE void ancestors(const Model<S, T>& model, I i, F& f) {
+  if constexpr (is_static_tree_v<T>) {
+    (void)model;
+    for_each_ancestor<T, I::value>(f);
+  } else {
+    for (int j = model.parent(i); j >= 0; j = model.parent(j)) f(j);
+  }
+}
+
+/// Per-body records of a kernel on a run-time tree: `Data::work` viewed as n records of type Rec.
+template <class Rec, class S, class T>
+SPATIAL_INLINE Rec* records(Data<S, T>& data, int n) {
+  static_assert(sizeof(Rec) <= kWorkBlocksPerBody * sizeof(WorkBlock) && alignof(Rec) <= alignof(WorkBlock),
+                "a kernel's per-body record outgrew Data::work");
+  Rec* r = reinterpret_cast<Rec*>(data.work.data());
+  for (int i = 0; i < n; ++i) new (r + i) Rec;  // trivial: begins the records' lifetimes, emits no code
+  return r;
 }
 
 /// Per-body values of one RNEA call, kept in registers' form between the passes.
@@ -312,6 +403,22 @@ struct RneaWork {
   V fn[NB], ff[NB];    // force
   V row[NB][3];        // rows of E in ⁱX_λ
 };
+/// The same on a run-time tree, in `Data::work`.
+template <class S>
+struct RneaWorkView {
+  using V = Vec<S>;
+  V *vw, *vv, *aw, *av, *fn, *ff;
+  V (*row)[3];
+  template <class T>
+  void attach(Data<S, T>& data, int n) {
+    struct Body {
+      V x[9];
+    };
+    V* base = records<Body>(data, n)->x;
+    vw = base, vv = base + n, aw = base + 2 * n, av = base + 3 * n, fn = base + 4 * n, ff = base + 5 * n;
+    row = reinterpret_cast<V(*)[3]>(base + 6 * n);
+  }
+};
 
 /// rnea_impl's AVX2 path (the same equations, the same outputs in `data`).
 template <unsigned Terms, class S, class T, class Q, class QD, class QDD, class Out, class Root>
@@ -322,13 +429,15 @@ void rnea(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>
   constexpr bool Vel = (Terms & 2u) != 0;
   constexpr bool A = (Terms & 4u) != 0;
   constexpr bool R = Root::floating;  // a moving root (floating base): its v and a start the recursion
-  constexpr int NB = T::size;
+  constexpr bool Static = Model<S, T>::is_static;
+  constexpr int NB = Static ? Model<S, T>::NB : 1;
   static_assert(sizeof(Transform<S>) == 12 * sizeof(S) && sizeof(Motion<S>) == 6 * sizeof(S) &&
                     sizeof(Force<S>) == 6 * sizeof(S) && sizeof(Inertia<S>) == 13 * sizeof(S),
                 "the AVX2 kernels assume unpadded spatial types");
-  sincos_all<S>(q, data.cos_q, data.sin_q, NB);
-  RneaWork<NB, S> w;
-  keep_in_memory(&w);
+  sincos_all<S>(q, data.cos_q, data.sin_q, model.size());
+  std::conditional_t<Static, RneaWork<NB, S>, RneaWorkView<S>> w;
+  if constexpr (Static) keep_in_memory(&w);
+  else w.attach(data, model.size());
   const V g0 = sub(zero<V>(), load3(model.gravity().data()));  // a₀ = −a_g = [0; −g]
   V rvw = zero<V>(), rvv = zero<V>(), raw = zero<V>(), rav = zero<V>(), rfn = zero<V>(), rff = zero<V>();
   if constexpr (R) {
@@ -336,22 +445,22 @@ void rnea(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>
     raw = load3(root.a.w.data()), rav = load3(root.a.v.data());
   }
 
-  auto forward = [&](auto I) SPATIAL_LAMBDA_INLINE {
-    constexpr int i = decltype(I)::value;
-    constexpr int p = T::parent[i];
-    constexpr int K = revolute_axis(T::joint[i]);
+  auto forward = [&](auto I, auto KC) SPATIAL_LAMBDA_INLINE {
+    const int i = I;
+    const auto p = parent_of(model, I);
+    constexpr int K = decltype(KC)::value;
     V col[3], r;
     joint_transform<K>(model, data, i, col, w.row[i], r);
 
     V vw = zero<V>(), vv = zero<V>(), aw = zero<V>(), av = zero<V>();
     if constexpr (Vel) {
-      if constexpr (p >= 0) apply_motion(col, r, w.vw[p], w.vv[p], vw, vv);
+      if (p >= 0) apply_motion(col, r, w.vw[p], w.vv[p], vw, vv);
       else if constexpr (R) apply_motion(col, r, rvw, rvv, vw, vv);
       vw = add(vw, axis<K>(S(qd[i])));
       w.vw[i] = vw;
       w.vv[i] = vv;
     }
-    if constexpr (p >= 0) {
+    if (p >= 0) {
       apply_motion(col, r, w.aw[p], w.av[p], aw, av);
     } else if constexpr (R) {
       apply_motion(col, r, raw, rav, aw, av);
@@ -398,16 +507,16 @@ void rnea(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>
     store3(data.a[k].v.data(), av);
   };
 
-  auto backward = [&](auto I) SPATIAL_LAMBDA_INLINE {
-    constexpr int i = NB - 1 - decltype(I)::value;
-    constexpr int p = T::parent[i];
-    constexpr int K = revolute_axis(T::joint[i]);
+  auto backward = [&](auto I, auto KC) SPATIAL_LAMBDA_INLINE {
+    const int i = I;
+    const auto p = parent_of(model, I);
+    constexpr int K = decltype(KC)::value;
     const V fn = w.fn[i], ff = w.ff[i];
     const auto k = static_cast<std::size_t>(i);
     store4(data.f[k].n.data(), fn);
     store3(data.f[k].f.data(), ff);
     tau[i] = get<K>(fn);
-    if constexpr (p >= 0) {
+    if (p >= 0) {
       V ang, lin;
       apply_force_inverse(w.row[i], load3(model.tree_transform(i).r.data()), fn, ff, ang, lin);
       w.fn[p] = add(w.fn[p], ang);
@@ -420,8 +529,8 @@ void rnea(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>
     }
   };
 
-  for_each_index(forward, std::make_integer_sequence<int, NB>{});
-  for_each_index(backward, std::make_integer_sequence<int, NB>{});
+  bodies(model, forward);
+  bodies_reverse(model, backward);
   if constexpr (R) {
     Force<S> add;
     store4(add.n.data(), rfn);
@@ -433,36 +542,29 @@ void rnea(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>
 }
 
 
-/// Calls f(P) for every proper ancestor P of body J (compile-time indices).
-template <class T, int J, class F>
-SPATIAL_INLINE void for_each_ancestor(F& f) {
-  constexpr int P = T::parent[J];
-  if constexpr (P >= 0) {
-    f(std::integral_constant<int, P>{});
-    for_each_ancestor<T, P>(f);
-  }
-}
-
 /// forward_kinematics' AVX2 path (after joint_sincos): ⁱX_λ into `data.X_up`, ⁱX_0 into `data.X_base` and the motion
 /// subspaces in base coordinates into `data.S_base`, as crba's first pass computes them.
 template <class S, class T>
 void forward_kinematics(const Model<S, T>& model, Data<S, T>& data) {
   using V = Vec<S>;
-  constexpr int NB = T::size;
+  constexpr bool Static = Model<S, T>::is_static;
+  constexpr int NB = Static ? Model<S, T>::NB : 1;
   struct Body {
     V col[3], row[3], r;  // ⁱX_0: columns and rows of E, r
   };
-  Body b[NB];
-  keep_in_memory(b);
-  auto forward = [&](auto I) SPATIAL_LAMBDA_INLINE {
-    constexpr int i = decltype(I)::value;
-    constexpr int p = T::parent[i];
-    constexpr int K = revolute_axis(T::joint[i]);
+  Body local[NB];
+  Body* b = local;
+  if constexpr (Static) keep_in_memory(b);
+  else b = records<Body>(data, model.size());
+  auto forward = [&](auto I, auto KC) SPATIAL_LAMBDA_INLINE {
+    const int i = I;
+    const auto p = parent_of(model, I);
+    constexpr int K = decltype(KC)::value;
     const auto k = static_cast<std::size_t>(i);
     Body& B = b[i];
     V ucol[3], urow[3], ur;
     joint_transform<K>(model, data, i, ucol, urow, ur);
-    if constexpr (p >= 0) {
+    if (p >= 0) {
       const Body& P = b[p];
       for (int c = 0; c < 3; ++c) B.col[c] = comb(ucol[0], ucol[1], ucol[2], P.col[c]);
       B.r = add(P.r, comb(P.row[0], P.row[1], P.row[2], ur));
@@ -475,7 +577,7 @@ void forward_kinematics(const Model<S, T>& model, Data<S, T>& data) {
     store4(data.S_base[k].w.data(), B.row[K]);
     store3(data.S_base[k].v.data(), cross(B.r, B.row[K]));
   };
-  for_each_index(forward, std::make_integer_sequence<int, NB>{});
+  bodies(model, forward);
 }
 
 /// Columns offset … offset + n − 1 of a 6-row column-major Jacobian (rows linear first) from n motion subspaces in
@@ -502,7 +604,8 @@ SPATIAL_INLINE void world_jacobian_columns(const Motion<S>* s, const Transform<S
 template <class S, class T, class Sink>
 void crba(const Model<S, T>& model, Data<S, T>& data, Sink& sink) {
   using V = Vec<S>;
-  constexpr int NB = T::size;
+  constexpr bool Static = Model<S, T>::is_static;
+  constexpr int NB = Static ? Model<S, T>::NB : 1;
   constexpr bool Out = std::decay_t<Sink>::active;
   struct Body {
     V ucol[3], urow[3], ur;  // ⁱX_λ: columns and rows of E, r
@@ -511,18 +614,20 @@ void crba(const Model<S, T>& model, Data<S, T>& data, Sink& sink) {
     V ih, ic[3];             // composite inertia: h and the columns of Ī
     S im;               // and m
   };
-  Body b[NB];
-  keep_in_memory(b);
+  Body local[NB];
+  Body* b = local;
+  if constexpr (Static) keep_in_memory(b);
+  else b = records<Body>(data, model.size());
 
-  auto forward = [&](auto I) SPATIAL_LAMBDA_INLINE {
-    constexpr int i = decltype(I)::value;
-    constexpr int p = T::parent[i];
-    constexpr int K = revolute_axis(T::joint[i]);
+  auto forward = [&](auto I, auto KC) SPATIAL_LAMBDA_INLINE {
+    const int i = I;
+    const auto p = parent_of(model, I);
+    constexpr int K = decltype(KC)::value;
     const auto k = static_cast<std::size_t>(i);
     Body& B = b[i];
     joint_transform<K>(model, data, i, B.ucol, B.urow, B.ur);
     // ⁱX_0 = ⁱX_λ ᵏX_0: E = E_up E_λ (column by column), r = r_λ + E_λᵀ r_up.
-    if constexpr (p >= 0) {
+    if (p >= 0) {
       const Body& P = b[p];
       for (int c = 0; c < 3; ++c) B.col[c] = comb(B.ucol[0], B.ucol[1], B.ucol[2], P.col[c]);
       B.r = add(P.r, comb(P.row[0], P.row[1], P.row[2], B.ur));
@@ -545,9 +650,9 @@ void crba(const Model<S, T>& model, Data<S, T>& data, Sink& sink) {
     B.ic[2] = load3(In.I.data() + 6);
   };
 
-  auto backward = [&](auto I) SPATIAL_LAMBDA_INLINE {
-    constexpr int i = NB - 1 - decltype(I)::value;
-    constexpr int p = T::parent[i];
+  auto backward = [&](auto I, auto) SPATIAL_LAMBDA_INLINE {
+    const int i = I;
+    const auto p = parent_of(model, I);
     const auto k = static_cast<std::size_t>(i);
     const Body& B = b[i];
     // Iᶜᵢ is complete: write it out.
@@ -557,7 +662,7 @@ void crba(const Model<S, T>& model, Data<S, T>& data, Sink& sink) {
     store4(out.I.data(), B.ic[0]);
     store4(out.I.data() + 3, B.ic[1]);
     store3(out.I.data() + 6, B.ic[2]);
-    if constexpr (p >= 0) {
+    if (p >= 0) {
       // ⁱX_λᵀ Iᶜ ⁱX_λ (Inertia::transformed_inverse): h′ = Eᵀ h, Ī′ = Eᵀ Ī E, g = h′ + (m/2) r,
       // Ī = Ī′ − (r gᵀ + g rᵀ) + 2 (g·r) 1, h = h′ + m r.
       const V hp = comb(B.urow[0], B.urow[1], B.urow[2], B.ih);
@@ -579,16 +684,16 @@ void crba(const Model<S, T>& model, Data<S, T>& data, Sink& sink) {
     }
   };
 
-  auto entries = [&](auto I) SPATIAL_LAMBDA_INLINE {
-    constexpr int i = decltype(I)::value;
-    constexpr int K = revolute_axis(T::joint[i]);
+  auto entries = [&](auto I, auto KC) SPATIAL_LAMBDA_INLINE {
+    const int i = I;
+    constexpr int K = decltype(KC)::value;
     const Body& B = b[i];
     // F = Iᶜ S = [Ī e_K; e_K × h]; Hᵢᵢ = Sᵀ F = Ī_KK.
     const V fn = B.ic[K];
     const V ff = mul(swap_other<K>(B.ih), sub(zero<V>(), sign<K, V>()));
     if constexpr (Out) sink.entry(i, i, get<K>(fn));
     else data.H(i, i) = get<K>(fn);
-    if constexpr (T::parent[i] >= 0 || Out) {
+    if (parent_of(model, I) >= 0 || Out) {
       // F⁰ = ⁱX_0ᵀ F = [Eᵀ n + r × Eᵀ f; Eᵀ f]; H_ij = S⁰ⱼ · F⁰ for every ancestor j.
       V n0, f0;
       apply_force_inverse(B.row, B.r, fn, ff, n0, f0);
@@ -599,7 +704,7 @@ void crba(const Model<S, T>& model, Data<S, T>& data, Sink& sink) {
         sink(i, F0);
       }
       auto entry = [&](auto J) SPATIAL_LAMBDA_INLINE {
-        constexpr int j = decltype(J)::value;
+        const int j = J;
         const S hij = hsum(fmadd(b[j].sw, n0, mul(b[j].sv, f0)));
         if constexpr (Out) {
           sink.entry(i, j, hij);
@@ -608,13 +713,13 @@ void crba(const Model<S, T>& model, Data<S, T>& data, Sink& sink) {
           data.H(j, i) = hij;
         }
       };
-      for_each_ancestor<T, i>(entry);
+      ancestors(model, I, entry);
     }
   };
 
-  for_each_index(forward, std::make_integer_sequence<int, NB>{});
-  for_each_index(backward, std::make_integer_sequence<int, NB>{});
-  for_each_index(entries, std::make_integer_sequence<int, NB>{});
+  bodies(model, forward);
+  bodies_reverse(model, backward);
+  bodies(model, entries);
 }
 
 /// Writes a motion or force vector from its two 3-vectors.
@@ -631,7 +736,8 @@ template <bool G, bool Vel, class S, class T, class Q, class QD, class Tau, clas
 void aba(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<QD>& qd,
          const Eigen::MatrixBase<Tau>& tau, const Root& root) {
   using V = Vec<S>;
-  constexpr int NB = T::size;
+  constexpr bool Static = Model<S, T>::is_static;
+  constexpr int NB = Static ? Model<S, T>::NB : 1;
   constexpr bool R = Root::floating;  // a moving root: pass 1 from its velocity, pass 2 into it, pass 3 from solve()
   static_assert(sizeof(ArticulatedInertia<S>) == 27 * sizeof(S), "unpadded articulated inertia");
   struct Body {
@@ -643,9 +749,11 @@ void aba(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>&
     S dinv, u;
     V aw, av;             // acceleration
   };
-  Body b[NB];
-  keep_in_memory(b);
-  sincos_all<S>(q, data.cos_q, data.sin_q, NB);
+  Body local[NB];
+  Body* b = local;
+  if constexpr (Static) keep_in_memory(b);
+  else b = records<Body>(data, model.size());
+  sincos_all<S>(q, data.cos_q, data.sin_q, model.size());
   (void)qd;
   Body rootb;  // the moving root: what its children pass to it in pass 2 (floating base only)
   V rvw = zero<V>(), rvv = zero<V>();
@@ -655,10 +763,10 @@ void aba(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>&
     rvw = load3(root.v.w.data()), rvv = load3(root.v.v.data());
   }
 
-  auto pass1 = [&](auto I) SPATIAL_LAMBDA_INLINE {
-    constexpr int i = decltype(I)::value;
-    constexpr int p = T::parent[i];
-    constexpr int K = revolute_axis(T::joint[i]);
+  auto pass1 = [&](auto I, auto KC) SPATIAL_LAMBDA_INLINE {
+    const int i = I;
+    const auto p = parent_of(model, I);
+    constexpr int K = decltype(KC)::value;
     const auto k = static_cast<std::size_t>(i);
     Body& B = b[i];
     joint_transform<K>(model, data, i, B.col, B.row, B.r);
@@ -677,7 +785,7 @@ void aba(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>&
     B.C[2] = only<2>(m);
     if constexpr (Vel) {
       V vw = zero<V>(), vv = zero<V>();
-      if constexpr (p >= 0) {
+      if (p >= 0) {
         const Body& P = b[p];
         apply_motion(B.col, B.r, P.vw, P.vv, vw, vv);
       } else if constexpr (R) {
@@ -703,10 +811,10 @@ void aba(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>&
     }
   };
 
-  auto pass2 = [&](auto I) SPATIAL_LAMBDA_INLINE {
-    constexpr int i = NB - 1 - decltype(I)::value;
-    constexpr int p = T::parent[i];
-    constexpr int K = revolute_axis(T::joint[i]);
+  auto pass2 = [&](auto I, auto KC) SPATIAL_LAMBDA_INLINE {
+    const int i = I;
+    const auto p = parent_of(model, I);
+    constexpr int K = decltype(KC)::value;
     const auto k = static_cast<std::size_t>(i);
     Body& B = b[i];
     // Iᴬ and pᴬ of body i are complete.
@@ -731,7 +839,7 @@ void aba(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>&
     store_pair(data.U[k].n.data(), B.un, B.uf);
     data.Dinv[k] = B.dinv;
     data.u[k] = B.u;
-    if constexpr (p >= 0 || R) {
+    if (p >= 0 || R) {
       // Iᵃ = Iᴬ − U Uᵀ / D
       const V d = bcast(B.dinv);
       const V wn = mul(B.un, d), wf = mul(B.uf, d);
@@ -766,10 +874,7 @@ void aba(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>&
       }
       // Xᵀ Iᵃ X (ArticulatedInertia::transformed_inverse): a = Eᵀ A E, b = Eᵀ B E, c = Eᵀ C E;
       // B′ = b + r̃ c, A′ = a − B′ r̃ + r̃ bᵀ, C′ = c.
-      Body& P = [&]() -> Body& {
-        if constexpr (p >= 0) return b[p];
-        else return rootb;
-      }();
+      Body& P = p >= 0 ? b[p] : rootb;
       V rb[3], rbp[3];
       auto rotate = [&](auto J) SPATIAL_LAMBDA_INLINE {
         constexpr int j = decltype(J)::value;
@@ -803,14 +908,14 @@ void aba(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>&
 
   const V g0 = sub(zero<V>(), load3(model.gravity().data()));
   V raw = zero<V>(), rav = zero<V>();
-  auto pass3 = [&](auto I) SPATIAL_LAMBDA_INLINE {
-    constexpr int i = decltype(I)::value;
-    constexpr int p = T::parent[i];
-    constexpr int K = revolute_axis(T::joint[i]);
+  auto pass3 = [&](auto I, auto KC) SPATIAL_LAMBDA_INLINE {
+    const int i = I;
+    const auto p = parent_of(model, I);
+    constexpr int K = decltype(KC)::value;
     const auto k = static_cast<std::size_t>(i);
     Body& B = b[i];
     V aw = zero<V>(), av = zero<V>();
-    if constexpr (p >= 0) {
+    if (p >= 0) {
       const Body& P = b[p];
       apply_motion(B.col, B.r, P.aw, P.av, aw, av);
     } else if constexpr (R) {
@@ -830,8 +935,8 @@ void aba(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>&
     store_pair(data.a[k].w.data(), aw, av);
   };
 
-  for_each_index(pass1, std::make_integer_sequence<int, NB>{});
-  for_each_index(pass2, std::make_integer_sequence<int, NB>{});
+  bodies(model, pass1);
+  bodies_reverse(model, pass2);
   if constexpr (R) {
     // The root's articulated inertia and bias force are complete: add them in, solve for its acceleration.
     ArticulatedInertia<S> IA;
@@ -855,7 +960,7 @@ void aba(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>&
   } else {
     (void)root, (void)raw, (void)rav;
   }
-  for_each_index(pass3, std::make_integer_sequence<int, NB>{});
+  bodies(model, pass3);
 }
 
 }  // namespace simd

@@ -61,7 +61,8 @@ inline constexpr bool kEveryTermCombination =
 static_assert(detail::simd_enabled<double, Rev9>());
 static_assert(detail::simd_enabled<double, models::hoap3_stance_right::Tree>());
 static_assert(detail::simd_enabled<float, Rev9>(), "float takes the same kernels (four floats in 128-bit registers)");
-static_assert(!detail::simd_enabled<double, DynamicTree>(), "run-time trees take the scalar path");
+static_assert(!detail::simd_enabled<double, DynamicTree>() && detail::simd_candidate<double, DynamicTree>(),
+              "run-time trees take the kernels when simd_applies says so, per call (simd_runtime.cpp)");
 static_assert(!detail::simd_enabled<double, static_trees::Branched8>(), "other joint types: scalar path");
 
 template <class TreeT>
