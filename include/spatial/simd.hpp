@@ -15,8 +15,8 @@
 ///
 /// Used when the translation unit is compiled with AVX2 and FMA (`-mavx2 -mfma`, `-march=x86-64-v3`, `-march=native`
 /// on such a machine), the scalar is double or float, every joint of the tree is revolute about a coordinate axis
-/// (RevoluteX/Y/Z: all reference models, and the HOAP-3 URDF loaded at run time), and no external force is given. Everything else takes the
-/// scalar path. Define SPATIAL_NO_SIMD to always take it. Results agree with the scalar path to rounding
+/// (RevoluteX/Y/Z: all reference models, and the HOAP-3 URDF loaded at run time), and no external force is given.
+/// Everything else takes the scalar path. Define SPATIAL_NO_SIMD to always take it. Results agree with the scalar path to rounding
 /// (tests/simd_*.cpp: every term combination, every per-body output, double and float).
 
 #include "spatial/algebra.hpp"
