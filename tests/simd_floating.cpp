@@ -42,8 +42,7 @@ TEST(SimdFloating, CrbaHoap3) { compare_floating(models::hoap3_floating::floatin
 TEST(SimdFloating, CrbaRandomTrees) {
   std::mt19937 rng(71);
   for (unsigned seed = 72; seed < 75; ++seed) {
-    const Inertia<double> I0 = Inertia<double>::from_com(2.0, Vector3<double>(0.1, -0.05, 0.02),
-                                                          Vector3<double>(0.02, 0.03, 0.04).asDiagonal());
+    const Inertia<double> I0 = test_root_inertia();
     compare_floating(FloatingModel<double, Rev9>(random_static<Rev9>(seed), I0), seed);
 #if SPATIAL_SIMD_TEST_ALL_TREES
     compare_floating(FloatingModel<double, RevChain24>(random_static<RevChain24>(seed), I0), seed);
@@ -105,8 +104,7 @@ TEST(SimdFloating, DynamicsHoap3) { compare_floating_dynamics(models::hoap3_floa
 // float on Rev9 (the HOAP-3's fixed-base kernels run in float in simd_rnea.cpp, simd_crba.cpp and simd_aba.cpp; a
 // 27-body floating model in float would be three more large unrolled instantiations).
 TEST(SimdFloating, Float) {
-  const Inertia<double> I0 = Inertia<double>::from_com(2.0, Vector3<double>(0.1, -0.05, 0.02),
-                                                        Vector3<double>(0.02, 0.03, 0.04).asDiagonal());
+  const Inertia<double> I0 = test_root_inertia();
   const auto model = FloatingModel<double, Rev9>(random_static<Rev9>(86), I0).cast<float>();
   compare_floating(model, 71);
   compare_floating_dynamics(model, 85);
@@ -114,8 +112,7 @@ TEST(SimdFloating, Float) {
 
 TEST(SimdFloating, DynamicsRandomTrees) {
   for (unsigned seed = 81; seed < 84; ++seed) {
-    const Inertia<double> I0 = Inertia<double>::from_com(2.0, Vector3<double>(0.1, -0.05, 0.02),
-                                                          Vector3<double>(0.02, 0.03, 0.04).asDiagonal());
+    const Inertia<double> I0 = test_root_inertia();
     compare_floating_dynamics(FloatingModel<double, Rev9>(random_static<Rev9>(seed), I0), seed);
 #if SPATIAL_SIMD_TEST_ALL_TREES
     compare_floating_dynamics(FloatingModel<double, RevChain24>(random_static<RevChain24>(seed), I0), seed);

@@ -1,10 +1,12 @@
-// The kinematics in a translation unit built with -mavx2 -mfma, where compile-time trees of axis-aligned revolute
-// joints take the AVX2 paths: forward kinematics (simd::forward_kinematics, which also leaves the motion subspaces
-// in base coordinates), the floating base's world Jacobian columns (simd::world_jacobian_columns) and the one-walk
-// body and frame Jacobians (detail::jacobian_walk_simd). Each is compared with the same call on the run-time twin
-// of the model (same numbers, scalar path), on the HOAP-3 models and random trees, fixed and floating; so are the
-// functions built on them (CoM Jacobian, A_G). The one-walk Jacobians are also written into a block of a larger
-// matrix (outer stride ≠ 6), which takes the scalar walk on the compile-time tree.
+// The kinematics on the AVX2 paths (a translation unit built with -mavx2 -mfma): forward kinematics
+// (simd::forward_kinematics, which also leaves the motion subspaces in base coordinates), the world Jacobian columns
+// (simd::world_jacobian_columns) and the one-walk body and frame Jacobians (detail::jacobian_walk_simd), which serve
+// compile-time trees of axis-aligned revolute joints and, chosen per call, run-time trees of such joints. Each is
+// compared, on a compile-time model and on its run-time twin, with the same call on the model's scalar twin (every
+// joint a RevoluteAxis joint about the same axis: the scalar path), on the HOAP-3 models and random trees, fixed and
+// floating; so are the functions built on them (CoM Jacobian, A_G). The one-walk Jacobians are also written into a
+// block of a larger matrix (outer stride ≠ 6), which takes the scalar walk; a run-time chain deeper than the walk's
+// stack arrays takes it too.
 #include "support/simd_compare.hpp"
 
 #include <spatial/models/hoap3_floating.hpp>
@@ -21,7 +23,7 @@ double max_diff(const Eigen::MatrixBase<A>& a, const Eigen::MatrixBase<B>& b) {
   return double((a - b).cwiseAbs().maxCoeff());
 }
 
-/// Every output of the kinematics on a compile-time model M (AVX2) and its run-time twin R (scalar), at q.
+/// Every output of the kinematics on a model M (AVX2: compile-time, or its run-time twin) and its scalar twin R, at q.
 template <class M, class R, class DM, class DR, class Q>
 void compare_kinematics(const M& m, const R& r, DM& dm, DR& dr, const Q& q, int nv, double tol) {
   using S = typename Q::Scalar;
@@ -83,30 +85,36 @@ void compare_kinematics(const M& m, const R& r, DM& dm, DR& dr, const Q& q, int 
 template <class TreeT, class S>
 void compare_fixed(const Model<S, TreeT>& m, unsigned seed) {
   static_assert(detail::simd_enabled<S, TreeT>());
-  const Model<S> r = m.to_runtime();
+  const Model<S> rt = m.to_runtime(), r = scalar_twin(m);
+  ASSERT_TRUE(detail::simd_applies(rt));
   Data<S, TreeT> dm(m);
-  Data<S> dr(r);
+  Data<S> drt(rt), dr(r);
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-3.2, 3.2);
   for (int trial = 0; trial < 10; ++trial) {
     Eigen::Matrix<S, TreeT::size, 1> q;
     for (int i = 0; i < TreeT::size; ++i) q[i] = S(u(rng));
+    const Eigen::Matrix<S, Eigen::Dynamic, 1> qd = q;
     compare_kinematics(m, r, dm, dr, q, TreeT::size, tolerance<TreeT, S>());
+    compare_kinematics(rt, r, drt, dr, qd, TreeT::size, tolerance<TreeT, S>());
   }
 }
 
 template <class TreeT, class S>
 void compare_floating(const FloatingModel<S, TreeT>& m, unsigned seed) {
   static_assert(detail::simd_enabled<S, TreeT>());
-  const FloatingModel<S> r = m.to_runtime();
+  const FloatingModel<S> rt = m.to_runtime(), r = scalar_twin(m);
+  ASSERT_TRUE(detail::simd_applies(rt.tree()));
   FloatingData<S, TreeT> dm(m);
-  FloatingData<S> dr(r);
+  FloatingData<S> drt(rt), dr(r);
   std::mt19937 rng(seed);
   const Eigen::Matrix<S, Eigen::Dynamic, 1> lo = Eigen::Matrix<S, Eigen::Dynamic, 1>::Constant(TreeT::size, S(-3.2));
   const Eigen::Matrix<S, Eigen::Dynamic, 1> hi = -lo;
   for (int trial = 0; trial < 10; ++trial) {
     const Eigen::Matrix<S, FloatingModel<S, TreeT>::NQ, 1> q = random_configuration(m, lo, hi, rng);
+    const Eigen::Matrix<S, Eigen::Dynamic, 1> qd = q;
     compare_kinematics(m, r, dm, dr, q, m.nv(), tolerance<TreeT, S>());
+    compare_kinematics(rt, r, drt, dr, qd, m.nv(), tolerance<TreeT, S>());
   }
 }
 
@@ -116,19 +124,38 @@ TEST(SimdKinematics, FloatingHoap3) { compare_floating(models::hoap3_floating::f
 
 TEST(SimdKinematics, Float) {
   compare_fixed(models::hoap3_stance_right::model().cast<float>(), 86);
-  const Inertia<double> I0 = Inertia<double>::from_com(2.0, Vector3<double>(0.1, -0.05, 0.02),
-                                                        Vector3<double>(0.02, 0.03, 0.04).asDiagonal());
-  compare_floating(FloatingModel<double, Rev9>(random_static<Rev9>(87), I0).cast<float>(), 87);
+  compare_floating(FloatingModel<double, Rev9>(random_static<Rev9>(87), test_root_inertia()).cast<float>(), 87);
 }
 
 TEST(SimdKinematics, RandomTrees) {
-  const Inertia<double> I0 = Inertia<double>::from_com(2.0, Vector3<double>(0.1, -0.05, 0.02),
-                                                        Vector3<double>(0.02, 0.03, 0.04).asDiagonal());
   for (unsigned seed = 82; seed < 85; ++seed) {
     compare_fixed(random_static<Rev9>(seed), seed);
     compare_fixed(random_static<RevChain24>(seed), seed);
-    compare_floating(FloatingModel<double, Rev9>(random_static<Rev9>(seed), I0), seed);
-    compare_floating(FloatingModel<double, RevChain24>(random_static<RevChain24>(seed), I0), seed);
+    compare_floating(FloatingModel<double, Rev9>(random_static<Rev9>(seed), test_root_inertia()), seed);
+    compare_floating(FloatingModel<double, RevChain24>(random_static<RevChain24>(seed), test_root_inertia()), seed);
+  }
+}
+
+// A run-time chain of revolute joints about coordinate axes deeper than the walk's stack arrays
+// (detail::kMaxSimdWalkDepth): the bodies near the tip take the scalar walk, the others the AVX2 walk, and all
+// give the scalar twin's Jacobians.
+TEST(SimdKinematics, DeepRuntimeChainTakesTheScalarWalk) {
+  const int n = detail::kMaxSimdWalkDepth + 6;
+  std::vector<spatial::testing::RandomBody> bodies = spatial::testing::random_bodies(
+      n, spatial::testing::Shape::Chain, 88, false);
+  for (int i = 0; i < n; ++i) bodies[std::size_t(i)].type = kAxes[i % 3];
+  const Model<double> rt = spatial::testing::build_model(bodies), r = scalar_twin(rt);
+  ASSERT_TRUE(detail::simd_applies(rt));
+  Data<double> drt(rt), dr(r);
+  std::mt19937 rng(88);
+  const Eigen::VectorXd q = spatial::testing::random_vector(n, rng, 3.0);
+  Eigen::MatrixXd Js(6, n), Jref(6, n);
+  for (ReferenceFrame rf : kFrames) {
+    for (int b : {n - 1, n - 6, n - 7, 10}) {
+      compute_body_jacobian(rt, drt, q, b, rf, Js);
+      compute_body_jacobian(r, dr, q, b, rf, Jref);
+      EXPECT_LE(max_diff(Js, Jref), 1e-12 * (1 + Jref.cwiseAbs().maxCoeff())) << "body " << b << " rf " << int(rf);
+    }
   }
 }
 

@@ -274,8 +274,7 @@ void expect_same_floating(const FloatingModel<double, TreeT>& ms, unsigned seed)
 }
 
 TEST(SimdRuntime, FloatingBase) {
-  const Inertia<double> I0 = Inertia<double>::from_com(2.0, Vector3<double>(0.1, -0.05, 0.02),
-                                                        Vector3<double>(0.02, 0.03, 0.04).asDiagonal());
+  const Inertia<double> I0 = test_root_inertia();
   expect_same_floating(FloatingModel<double, Rev9>(random_static<Rev9>(9), I0), 9);
 }
 

@@ -225,9 +225,11 @@ void joint_jacobian_columns(const K& k) {
 #if SPATIAL_SIMD_AVX2
   // The AVX2 forward kinematics has left Sⱼ in base (root) coordinates in data.S_base.
   using TreeT = typename std::decay_t<decltype(k.tree)>::tree_type;
-  if constexpr (!Dot && K::root_cols > 0 && simd_enabled<S, TreeT>()) {
-    simd::world_jacobian_columns<TreeT::size>(td.S_base.data(), X0, J.data(), K::root_cols);
-    return;
+  if constexpr (!Dot && simd_candidate<S, TreeT>()) {
+    if (simd_applies(k.tree)) {
+      simd::world_jacobian_columns<(K::root_cols > 0)>(td.S_base.data(), k.tree.size(), X0, J.data(), K::root_cols);
+      return;
+    }
   }
 #endif
   for_each_body(k.tree, [&](auto I) {
@@ -351,22 +353,30 @@ void jacobian_time_variation_from_world(const K& k, int body, const Transform<ty
 }
 
 #if SPATIAL_SIMD_AVX2
-/// jacobian_walk's AVX2 path (compile-time tree of axis-aligned revolute joints, double, J a column-major matrix
+/// Deepest chain (bodies from a body up to the base) that jacobian_walk_simd serves on a run-time tree; deeper
+/// ones take the scalar walk.
+inline constexpr int kMaxSimdWalkDepth = 64;
+
+/// jacobian_walk's AVX2 path (a tree of axis-aligned revolute joints, double or float, J a column-major matrix
 /// with 6 rows): the chain's world transforms from the root down (ⁱX_w = ⁱX_λ ᵏX_w, starting from the root's
 /// ⁰X_w = X0, identity for a fixed base), then every column straight in `rf`: a joint with world axis ω through
 /// the point p moves the world origin at p × ω (World) and the frame's origin p_f at ω × (p_f − p)
-/// (LocalWorldAligned; Local rotates that into the frame's axes).
+/// (LocalWorldAligned; Local rotates that into the frame's axes). Returns false, having written nothing, when
+/// the chain of a run-time tree is deeper than kMaxSimdWalkDepth.
 template <class K, class Q, class S>
-void jacobian_walk_simd(const K& k, const Eigen::MatrixBase<Q>& q, int body, const Transform<S>& Xf,
+bool jacobian_walk_simd(const K& k, const Eigen::MatrixBase<Q>& q, int body, const Transform<S>& Xf,
                         ReferenceFrame rf, S* J) {
   using namespace simd;
   using V = Vec<S>;
-  using T = typename std::decay_t<decltype(k.tree)>::tree_type;
-  constexpr int NB = T::size;
+  using Tree = std::decay_t<decltype(k.tree)>;
+  constexpr int NB = Tree::is_static ? Tree::NB : kMaxSimdWalkDepth;
   std::array<int, NB> idx;
   std::array<S, NB> qc, cc, sc;
   int n = 0;
   for (int j = body; j >= 0; j = k.tree.parent(j), ++n) {
+    if constexpr (!Tree::is_static) {
+      if (n == NB) return false;
+    }
     idx[static_cast<std::size_t>(n)] = j;
     qc[static_cast<std::size_t>(n)] = S(q[K::qoff + j]);
   }
@@ -384,7 +394,7 @@ void jacobian_walk_simd(const K& k, const Eigen::MatrixBase<Q>& q, int body, con
     const auto u = static_cast<std::size_t>(t);
     const int i = idx[u];
     V ucol[3], ur;
-    const int axis_k = revolute_axis(T::joint[static_cast<std::size_t>(i)]);
+    const int axis_k = revolute_axis(k.tree.joint_type(i));
     if (axis_k == 0) compose<0>(k.tree.tree_transform(i), cc[u], sc[u], ucol[0], ucol[1], ucol[2], ur);
     else if (axis_k == 1) compose<1>(k.tree.tree_transform(i), cc[u], sc[u], ucol[0], ucol[1], ucol[2], ur);
     else compose<2>(k.tree.tree_transform(i), cc[u], sc[u], ucol[0], ucol[1], ucol[2], ur);
@@ -429,6 +439,7 @@ void jacobian_walk_simd(const K& k, const Eigen::MatrixBase<Q>& q, int body, con
     for (int c = 0; c < 3; ++c) column(c, root_row[c], p0, true);
     for (int c = 0; c < 3; ++c) column(3 + c, root_row[c], p0, false);
   }
+  return true;
 }
 #endif
 
@@ -440,13 +451,12 @@ void jacobian_walk(const K& k, const Eigen::MatrixBase<Q>& q, int body, Transfor
   J.setZero();
 #if SPATIAL_SIMD_AVX2
   using TreeT = typename std::decay_t<decltype(k.tree)>::tree_type;
-  if constexpr (simd_enabled<S, TreeT>() && (int(Out::Flags) & Eigen::DirectAccessBit) && !Out::IsRowMajor &&
+  if constexpr (simd_candidate<S, TreeT>() && (int(Out::Flags) & Eigen::DirectAccessBit) && !Out::IsRowMajor &&
                 Out::InnerStrideAtCompileTime == 1 &&
                 (Out::RowsAtCompileTime == 6 || Out::RowsAtCompileTime == Eigen::Dynamic)) {
-    if (J.rows() == 6 && J.derived().outerStride() == 6) {
-      jacobian_walk_simd(k, q, body, X, rf, J.derived().data());
+    if (J.rows() == 6 && J.derived().outerStride() == 6 && simd_applies(k.tree) &&
+        jacobian_walk_simd(k, q, body, X, rf, J.derived().data()))
       return;
-    }
   }
 #endif
   // The ancestors' sines and cosines eight at a time (sincos_all vectorises), then the walk over them.

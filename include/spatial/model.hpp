@@ -133,10 +133,11 @@ class Model {
   RuntimeJoint<S> joint(int i) const { return RuntimeJoint<S>{joint_type(i), axis_[static_cast<std::size_t>(i)]}; }
   /// True when every joint is a revolute joint about a coordinate axis (RevoluteX/Y/Z): the trees that the AVX2
   /// kernels of simd.hpp serve, compile-time or run-time.
+  /// Kept with the model (set wherever its joint types are), so that the per-call dispatch of a run-time tree
+  /// costs one load.
   bool revolute_axes_only() const {
-    for (int i = 0; i < size(); ++i)
-      if (joint_type(i) > JointType::RevoluteZ) return false;
-    return true;
+    if constexpr (is_static) return axes_only_of_types_();
+    else return axes_only_;
   }
 
   /// X_T(i): from the parent body's coordinates to joint i's predecessor frame.
@@ -227,6 +228,7 @@ class Model {
       out.parent_[k] = parent(i);
       out.type_[k] = joint_type(i);
     }
+    out.axes_only_ = out.axes_only_of_types_();
     out.g_ = g_;
     out.body_names_ = body_names_;
     out.joint_names_ = joint_names_;
@@ -249,6 +251,7 @@ class Model {
     if constexpr (!is_static) {
       out.parent_ = parent_;
       out.type_ = type_;
+      out.axes_only_ = axes_only_;
     }
     out.g_ = g_.template cast<T>();
     out.body_names_ = body_names_;
@@ -324,6 +327,11 @@ class Model {
   friend class ModelBuilder<S>;
   friend struct detail::ModelAccess;
 
+  bool axes_only_of_types_() const {
+    for (int i = 0; i < size(); ++i)
+      if (joint_type(i) > JointType::RevoluteZ) return false;
+    return true;
+  }
   void resize_(int n) {
     if constexpr (!is_static) {
       const auto k = static_cast<std::size_t>(n);
@@ -342,6 +350,7 @@ class Model {
   Array<Vector3<S>> axis_{};
   std::vector<int> parent_;      // run-time trees only
   std::vector<JointType> type_;  // run-time trees only
+  bool axes_only_ = true;        // run-time trees only: revolute_axes_only()
   Vector3<S> g_;
   std::vector<std::string> body_names_, joint_names_;
   std::vector<FixedFrame<S>> frames_;
@@ -514,6 +523,7 @@ class ModelBuilder {
     model_.axis_.push_back(a);
     model_.parent_.push_back(parent);
     model_.type_.push_back(type);
+    model_.axes_only_ = model_.axes_only_ && type <= JointType::RevoluteZ;
     model_.body_names_.push_back(name);
     model_.joint_names_.push_back(joint_name.empty() ? name : joint_name);
     if (!bad.warning.empty()) warnings_.push_back(what + ": " + bad.warning);

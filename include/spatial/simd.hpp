@@ -581,17 +581,21 @@ void forward_kinematics(const Model<S, T>& model, Data<S, T>& data) {
 }
 
 /// Columns offset … offset + n − 1 of a 6-row column-major Jacobian (rows linear first) from n motion subspaces in
-/// root coordinates, moved to world coordinates by X0 = ⁰X_w: ω = E0ᵀ s_ω, v = E0ᵀ s_v + r0 × ω.
-template <int N, class S>
-SPATIAL_INLINE void world_jacobian_columns(const Motion<S>* s, const Transform<S>& X0, S* J, int offset) {
+/// root coordinates, moved to world coordinates by X0 = ⁰X_w: ω = E0ᵀ s_ω, v = E0ᵀ s_v + r0 × ω; without `Move`
+/// (a fixed base: X0 is the identity) copied as they are.
+template <bool Move, class S>
+SPATIAL_INLINE void world_jacobian_columns(const Motion<S>* s, int n, const Transform<S>& X0, S* J, int offset) {
   using V = Vec<S>;
   V row[3];
   transpose(load3z(X0.E.data()), load3z(X0.E.data() + 3), load3(X0.E.data() + 6), row[0], row[1], row[2]);
   // transpose gives the rows of E0, i.e. the columns of E0ᵀ: comb with them is E0ᵀ x.
   const V r0 = load3(X0.r.data());
-  for (int c = 0; c < N; ++c) {
-    const V w = comb(row[0], row[1], row[2], load3z(s[c].w.data()));
-    const V v = add(comb(row[0], row[1], row[2], load3z(s[c].v.data())), cross(r0, w));
+  for (int c = 0; c < n; ++c) {
+    V w = load3z(s[c].w.data()), v = load3z(s[c].v.data());
+    if constexpr (Move) {
+      w = comb(row[0], row[1], row[2], w);
+      v = add(comb(row[0], row[1], row[2], v), cross(r0, w));
+    }
     S* out = J + 6 * (offset + c);
     store4(out, v);
     store3(out + 3, w);

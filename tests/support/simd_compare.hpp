@@ -103,4 +103,35 @@ Model<double, TreeT> random_static(unsigned seed) {
   return Model<double, TreeT>::from(spatial::testing::build_model(static_trees::bodies_for<TreeT>(seed)));
 }
 
+/// The root body of the floating-base trees of these tests (2 kg, CoM off the origin, unequal principal moments).
+inline Inertia<double> test_root_inertia() {
+  return Inertia<double>::from_com(2.0, Vector3<double>(0.1, -0.05, 0.02),
+                                   Vector3<double>(0.02, 0.03, 0.04).asDiagonal());
+}
+
+/// The run-time twin of `m` with every RevoluteX/Y/Z joint written as a RevoluteAxis joint about the same unit
+/// axis: the same model (numbers, names, frames, base mass, gravity) that `simd_applies` refuses, so every call on
+/// it takes the scalar path with the general-axis joint code — a reference independent of the kernels, for
+/// compile-time trees and for run-time trees (which take the kernels).
+template <class S, class T>
+Model<S> scalar_twin(const Model<S, T>& m) {
+  ModelBuilder<S> b;
+  b.set_gravity(m.gravity());
+  for (int i = 0; i < m.size(); ++i) {
+    const JointType t = m.joint_type(i);
+    const int axis = detail::revolute_axis(t);
+    b.add_body(m.body_name(i), m.parent(i), axis >= 0 ? JointType::RevoluteAxis : t, m.tree_transform(i),
+               m.inertia(i), axis >= 0 ? Vector3<S>(Vector3<S>::Unit(axis)) : m.axis(i), m.joint_name(i));
+  }
+  Model<S> out = b.build();
+  detail::ModelAccess::frames(out) = m.frames();
+  detail::ModelAccess::base_mass(out) = m.base_mass();
+  EXPECT_FALSE(detail::simd_applies(out));
+  return out;
+}
+template <class S, class T>
+FloatingModel<S> scalar_twin(const FloatingModel<S, T>& m) {
+  return FloatingModel<S>(scalar_twin(m.tree()), m.root_inertia(), m.root_name());
+}
+
 }  // namespace spatial::testing::simd
