@@ -99,6 +99,7 @@ namespace detail {
 /// No per-body output from `crba_impl` (see there).
 struct NoForceSink {
   static constexpr bool active = false;
+  static constexpr bool entries = true;
   template <class F>
   void operator()(int, const F&) const {}
 };
@@ -488,10 +489,12 @@ namespace detail {
 /// `sink`, when given (floating.hpp: the joint-space inertia of a floating base), takes the place of `data.H`: it
 /// receives every entry `sink.entry(i, j, Hᵢⱼ)` (j = i or an ancestor of i; `data.H` is then not written) and every
 /// body's `sink(i, F⁰)`, Fᵢ⁰ = ⁱX_0ᵀ Iᶜᵢ Sᵢ in base coordinates, the roots' included. The default `NoForceSink`
-/// compiles to nothing.
+/// compiles to nothing. A sink whose `entries` is false (centroidal.hpp: the columns of A_G) takes the forces
+/// alone: no entry of H is computed.
 template <bool Simd = true, class S, class T, class Sink = NoForceSink>
 void crba_impl(const Model<S, T>& model, Data<S, T>& data, Sink&& sink = Sink{}) {
   constexpr bool Out = std::decay_t<Sink>::active;
+  constexpr bool Entries = std::decay_t<Sink>::entries;
 #if SPATIAL_SIMD_AVX2
   if constexpr (Simd && simd_candidate<S, T>()) {
     if (simd_applies(model)) {
@@ -517,24 +520,28 @@ void crba_impl(const Model<S, T>& model, Data<S, T>& data, Sink&& sink = Sink{})
     const auto k = static_cast<std::size_t>(i);
     const auto joint = model.joint(I);
     const Force<S> F = joint.apply_inertia(data.Ic[k]);
-    if constexpr (Out) sink.entry(i, i, joint.project(F));
-    else data.H(i, i) = joint.project(F);
-    if (model.parent(I) < 0) {
-      if constexpr (Out) sink(i, data.X_base[k].apply_force_inverse(F));
-      return;
-    }
-    const Force<S> F0 = data.X_base[k].apply_force_inverse(F);
-    if constexpr (Out) sink(i, F0);
-    walk_up(model, I, [&](auto, auto P) {
-      const int p = P;
-      const S hip = dot(data.S_base[static_cast<std::size_t>(p)], F0);
-      if constexpr (Out) {
-        sink.entry(i, p, hip);
-      } else {
-        data.H(i, p) = hip;
-        data.H(p, i) = hip;
+    if constexpr (!Entries) {
+      sink(i, data.X_base[k].apply_force_inverse(F));
+    } else {
+      if constexpr (Out) sink.entry(i, i, joint.project(F));
+      else data.H(i, i) = joint.project(F);
+      if (model.parent(I) < 0) {
+        if constexpr (Out) sink(i, data.X_base[k].apply_force_inverse(F));
+        return;
       }
-    });
+      const Force<S> F0 = data.X_base[k].apply_force_inverse(F);
+      if constexpr (Out) sink(i, F0);
+      walk_up(model, I, [&](auto, auto P) {
+        const int p = P;
+        const S hip = dot(data.S_base[static_cast<std::size_t>(p)], F0);
+        if constexpr (Out) {
+          sink.entry(i, p, hip);
+        } else {
+          data.H(i, p) = hip;
+          data.H(p, i) = hip;
+        }
+      });
+    }
   });
 }
 }  // namespace detail

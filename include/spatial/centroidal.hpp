@@ -19,9 +19,11 @@
 ///  - CoM Jacobian: the subtree masses mⱼ and first moments hⱼ = Σ_subtree mₖ cₖ in base coordinates, accumulated
 ///    leaves to root; joint j with motion subspace Sⱼ = (ω, v_O) in base coordinates moves its subtree's linear
 ///    momentum by mⱼ v_O + ω × hⱼ, so column j of J_c is (mⱼ v_O + ω × hⱼ) / M.
-///  - A_G: every body's inertia in base coordinates, summed leaves to root into composite inertias Iᶜⱼ (as CRBA,
-///    but without transforms on the way up); column j is Iᶜⱼ Sⱼ (the subtree's momentum for a unit rate of joint
-///    j, a force about the base origin) moved to c: k_G = n_O − c × f.
+///  - A_G: the first two passes of CRBA (the kernels of simd.hpp where they apply), without H: composite inertias
+///    Iᶜⱼ summed leaves to root in body coordinates; column j is Fⱼ⁰ = ʲX_0ᵀ Iᶜⱼ Sⱼ (the subtree's momentum for a
+///    unit rate of joint j, a force about the base origin in base coordinates) moved to c: k_G = n_O − c × f. The
+///    total mass and first moment come from the roots' composite inertias moved to the base.
+///  - I_G: every body's inertia in base coordinates, summed.
 ///  - h_G, ḣ_G, Ȧ_G v: body velocities vᵢ and accelerations aᵢ (no gravity) as in RNEA; each body's momentum Iᵢ vᵢ
 ///    and net force Iᵢ aᵢ + vᵢ ×* Iᵢ vᵢ summed in base coordinates and moved to c. The sum of net forces is the
 ///    rate of the momentum about the fixed base origin, and moving it to c gives ḣ_G because ċ × M ċ = 0.
@@ -31,9 +33,9 @@
 ///
 /// Scratch. The functions use the buffers of `Data` (for a floating model, of `data.tree`): `X_up`, `X_base`
 /// (forward kinematics), `Ic` (base — root — coordinates: after the CoM and Jacobian functions `Ic[i].m` and
-/// `Ic[i].h` are the mass and first moment of body i's subtree, `Ic[i].I` is not computed; after the A_G and I_G
-/// functions `Ic[i]` is the composite inertia of the subtree in base coordinates — not the body coordinates CRBA
-/// leaves), `S_base` (motion subspaces in base coordinates), `v`, `a` (accelerations without gravity), `c` (the
+/// `Ic[i].h` are the mass and first moment of body i's subtree, `Ic[i].I` is not computed; after the A_G functions
+/// `Ic[i]` is the composite inertia of the subtree in body coordinates, as CRBA leaves it; after the I_G functions,
+/// in base coordinates), `S_base` (motion subspaces in base coordinates), `v`, `a` (accelerations without gravity), `c` (the
 /// velocity-product accelerations of Ȧ_G v) and `tmp` (subtree flags of `subtree_com_jacobian`). Results:
 /// `data.com`, `data.vcom`, `data.acom` (base coordinates for `Data`, world coordinates for `FloatingData`).
 /// A model of zero total mass (or a massless subtree, for the subtree functions) gives non-finite results.
@@ -226,17 +228,51 @@ void mark_subtree(const Model<S, T>& model, Data<S, T>& data, int body) {
   for (int k = body >= 0 ? model.parent(body) : -1; k >= 0; k = model.parent(k)) data.tmp[k] = S(2);
 }
 
-/// Columns offset … offset + n − 1 of A_G (linear first) from the composite inertias in base coordinates, moved
-/// to the centroidal frame by XG = ᴳX_base.
-template <class S, class T, class AG>
-void tree_centroidal_columns(const Model<S, T>& model, const Data<S, T>& data, const Transform<S>& XG, int offset,
-                             AG& Ag) {
+/// `crba_impl`'s sink for A_G (no entry of H is computed): column offset + i of A_G (linear first) takes body i's
+/// Fᵢ⁰ = ⁱX_0ᵀ Iᶜᵢ Sᵢ, the subtree's momentum for a unit rate of joint i, in base coordinates about the base origin;
+/// `centroidal_columns` then moves it to the centroidal frame.
+template <class AG>
+struct MomentumColumns {
+  static constexpr bool active = true;
+  static constexpr bool entries = false;
+  AG& Ag;
+  int offset;
+  template <class S>
+  SPATIAL_INLINE void operator()(int i, const Force<S>& F0) const {
+    Ag.template block<3, 1>(0, offset + i) = F0.f;
+    Ag.template block<3, 1>(3, offset + i) = F0.n;
+  }
+};
+
+/// Columns offset … offset + n − 1 of A_G by the tree's CRBA without H: the composite inertias (body coordinates,
+/// as `crba` leaves them in `data.Ic`) and every column's force about the base origin (`MomentumColumns`), still to
+/// be moved to the centroidal frame by `centroidal_columns`. Returns the composite inertia of the whole tree in base
+/// coordinates (the roots' composite inertias moved there).
+template <class S, class T, class Q, class AG>
+Inertia<S> base_momentum_columns(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q,
+                                 int offset, AG& Ag) {
+  crba_inputs(model, data, q);
+  crba_impl(model, data, MomentumColumns<AG>{Ag, offset});
+  Inertia<S> total = Inertia<S>::Zero();
   for_each_body(model, [&](auto I) {
-    const auto k = static_cast<std::size_t>(int(I));
-    const Force<S> F = XG.apply_force(data.Ic[k] * data.S_base[k]);
-    Ag.template block<3, 1>(0, offset + int(I)) = F.f;
-    Ag.template block<3, 1>(3, offset + int(I)) = F.n;
+    if (model.parent(I) < 0) {
+      const auto k = static_cast<std::size_t>(int(I));
+      total += data.Ic[k].transformed_inverse(data.X_base[k]);
+    }
   });
+  return total;
+}
+
+/// Moves columns offset … offset + n − 1 of A_G (linear first: forces about the base origin, base coordinates) to
+/// the centroidal frame XG = ᴳX_base.
+template <class S, class AG>
+void centroidal_columns(const Transform<S>& XG, int offset, int n, AG& Ag) {
+  for (int c = offset; c < offset + n; ++c) {
+    const Force<S> F = XG.apply_force(
+        Force<S>(Vector3<S>(Ag.template block<3, 1>(3, c)), Vector3<S>(Ag.template block<3, 1>(0, c))));
+    Ag.template block<3, 1>(0, c) = F.f;
+    Ag.template block<3, 1>(3, c) = F.n;
+  }
 }
 
 /// The free-flyer's six columns of A_G: the composite inertia of the whole robot at the root, Ic0 (root
@@ -348,10 +384,10 @@ template <class S, class T, class Q, class AG>
 void centroidal_momentum_matrix(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q,
                                 const Eigen::MatrixBase<AG>& Ag_) {
   auto& Ag = detail::out_arg(Ag_);
-  forward_kinematics(model, data, q);
-  const Inertia<S> total = detail::composite_inertias_base(model, data);
+  detail::check_sizes(model, "centroidal_momentum_matrix", "q", q);
+  const Inertia<S> total = detail::base_momentum_columns(model, data, q, 0, Ag);
   data.com = total.h / total.m;
-  detail::tree_centroidal_columns(model, data, Transform<S>(Matrix3<S>::Identity(), data.com), 0, Ag);
+  detail::centroidal_columns(Transform<S>(Matrix3<S>::Identity(), data.com), 0, model.size(), Ag);
 }
 
 /// Centroidal momentum h_G = [M ċ; k_G] (linear first, base axes, angular momentum about the CoM). Also
@@ -520,10 +556,17 @@ template <class S, class T, class Q, class AG>
 void centroidal_momentum_matrix(const FloatingModel<S, T>& model, FloatingData<S, T>& data,
                                 const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<AG>& Ag_) {
   auto& Ag = detail::out_arg(Ag_);
-  const Inertia<S> total = detail::floating_composite(model, data, q);
-  const Transform<S> XG = detail::centroidal_frame(data, Vector3<S>(total.h / total.m));
+  constexpr int NJ = FloatingModel<S, T>::NJ;
+  const int n = model.njoints();
+  detail::check_q(model, q, "centroidal_momentum_matrix");
+  data.X0 = detail::root_transform<S>(q);
+  Inertia<S> total = detail::base_momentum_columns(model.tree(), data.tree, detail::joint_block<NJ>(q, 7, n), 6, Ag);
+  total += model.root_inertia();
+  const Vector3<S> c = total.h / total.m;  // root coordinates
+  data.com = data.X0.r + detail::root_rotation(data) * c;
+  const Transform<S> XG = detail::centroidal_frame(data, c);
   detail::root_centroidal_columns(total, XG, Ag);
-  detail::tree_centroidal_columns(model.tree(), data.tree, XG, 6, Ag);
+  detail::centroidal_columns(XG, 6, n, Ag);
 }
 
 /// Centroidal momentum h_G = [M ċ; k_G] (linear first, world axes, about the CoM). Also `data.com`, `data.vcom`.

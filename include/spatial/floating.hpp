@@ -528,6 +528,7 @@ void crba_floating_finish(const FloatingModel<S, T>& model, FloatingData<S, T>& 
 template <class S, class T>
 struct FreeFlyerColumns {
   static constexpr bool active = true;
+  static constexpr bool entries = true;
   FloatingData<S, T>& data;
   /// Hᵢⱼ of the tree (j = i or an ancestor of i) into the joints' block, both triangles.
   SPATIAL_INLINE void entry(int i, int j, S hij) const {

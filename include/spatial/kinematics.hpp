@@ -353,18 +353,18 @@ void jacobian_time_variation_from_world(const K& k, int body, const Transform<ty
 }
 
 #if SPATIAL_SIMD_AVX2
-/// Deepest chain (bodies from a body up to the base) that jacobian_walk_simd serves on a run-time tree; deeper
-/// ones take the scalar walk.
+/// Deepest chain (bodies from a body up to the base) that jacobian_walk_simd serves on a run-time tree (the size of
+/// its stack arrays); deeper ones take the scalar walk.
 inline constexpr int kMaxSimdWalkDepth = 64;
 
 /// jacobian_walk's AVX2 path (a tree of axis-aligned revolute joints, double or float, J a column-major matrix
 /// with 6 rows): the chain's world transforms from the root down (ⁱX_w = ⁱX_λ ᵏX_w, starting from the root's
 /// ⁰X_w = X0, identity for a fixed base), then every column straight in `rf`: a joint with world axis ω through
 /// the point p moves the world origin at p × ω (World) and the frame's origin p_f at ω × (p_f − p)
-/// (LocalWorldAligned; Local rotates that into the frame's axes). Returns false, having written nothing, when
-/// the chain of a run-time tree is deeper than kMaxSimdWalkDepth.
+/// (LocalWorldAligned; Local rotates that into the frame's axes). On a run-time tree, the caller has checked that
+/// the chain is no deeper than kMaxSimdWalkDepth (`simd_walk_fits`).
 template <class K, class Q, class S>
-bool jacobian_walk_simd(const K& k, const Eigen::MatrixBase<Q>& q, int body, const Transform<S>& Xf,
+void jacobian_walk_simd(const K& k, const Eigen::MatrixBase<Q>& q, int body, const Transform<S>& Xf,
                         ReferenceFrame rf, S* J) {
   using namespace simd;
   using V = Vec<S>;
@@ -374,9 +374,6 @@ bool jacobian_walk_simd(const K& k, const Eigen::MatrixBase<Q>& q, int body, con
   std::array<S, NB> qc, cc, sc;
   int n = 0;
   for (int j = body; j >= 0; j = k.tree.parent(j), ++n) {
-    if constexpr (!Tree::is_static) {
-      if (n == NB) return false;
-    }
     idx[static_cast<std::size_t>(n)] = j;
     qc[static_cast<std::size_t>(n)] = S(q[K::qoff + j]);
   }
@@ -439,7 +436,20 @@ bool jacobian_walk_simd(const K& k, const Eigen::MatrixBase<Q>& q, int body, con
     for (int c = 0; c < 3; ++c) column(c, root_row[c], p0, true);
     for (int c = 0; c < 3; ++c) column(3 + c, root_row[c], p0, false);
   }
-  return true;
+}
+
+/// Whether jacobian_walk_simd can take body's chain: always on a compile-time tree, and on a run-time tree when
+/// the chain has at most kMaxSimdWalkDepth bodies.
+template <class Tree>
+SPATIAL_INLINE bool simd_walk_fits(const Tree& tree, int body) {
+  if constexpr (Tree::is_static) {
+    return (void)tree, (void)body, true;
+  } else {
+    int n = 0;
+    for (int j = body; j >= 0; j = tree.parent(j))
+      if (++n > kMaxSimdWalkDepth) return false;
+    return true;
+  }
 }
 #endif
 
@@ -454,9 +464,10 @@ void jacobian_walk(const K& k, const Eigen::MatrixBase<Q>& q, int body, Transfor
   if constexpr (simd_candidate<S, TreeT>() && (int(Out::Flags) & Eigen::DirectAccessBit) && !Out::IsRowMajor &&
                 Out::InnerStrideAtCompileTime == 1 &&
                 (Out::RowsAtCompileTime == 6 || Out::RowsAtCompileTime == Eigen::Dynamic)) {
-    if (J.rows() == 6 && J.derived().outerStride() == 6 && simd_applies(k.tree) &&
-        jacobian_walk_simd(k, q, body, X, rf, J.derived().data()))
+    if (J.rows() == 6 && J.derived().outerStride() == 6 && simd_applies(k.tree) && simd_walk_fits(k.tree, body)) {
+      jacobian_walk_simd(k, q, body, X, rf, J.derived().data());
       return;
+    }
   }
 #endif
   // The ancestors' sines and cosines eight at a time (sincos_all vectorises), then the walk over them.

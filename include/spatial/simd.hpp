@@ -611,6 +611,7 @@ void crba(const Model<S, T>& model, Data<S, T>& data, Sink& sink) {
   constexpr bool Static = Model<S, T>::is_static;
   constexpr int NB = Static ? Model<S, T>::NB : 1;
   constexpr bool Out = std::decay_t<Sink>::active;
+  constexpr bool Entries = std::decay_t<Sink>::entries;
   struct Body {
     V ucol[3], urow[3], ur;  // ⁱX_λ: columns and rows of E, r
     V col[3], row[3], r;     // ⁱX_0
@@ -695,29 +696,38 @@ void crba(const Model<S, T>& model, Data<S, T>& data, Sink& sink) {
     // F = Iᶜ S = [Ī e_K; e_K × h]; Hᵢᵢ = Sᵀ F = Ī_KK.
     const V fn = B.ic[K];
     const V ff = mul(swap_other<K>(B.ih), sub(zero<V>(), sign<K, V>()));
-    if constexpr (Out) sink.entry(i, i, get<K>(fn));
-    else data.H(i, i) = get<K>(fn);
-    if (parent_of(model, I) >= 0 || Out) {
-      // F⁰ = ⁱX_0ᵀ F = [Eᵀ n + r × Eᵀ f; Eᵀ f]; H_ij = S⁰ⱼ · F⁰ for every ancestor j.
+    if constexpr (!Entries) {
       V n0, f0;
       apply_force_inverse(B.row, B.r, fn, ff, n0, f0);
-      if constexpr (Out) {
-        Force<S> F0;
-        store4(F0.n.data(), n0);
-        store3(F0.f.data(), f0);
-        sink(i, F0);
-      }
-      auto entry = [&](auto J) SPATIAL_LAMBDA_INLINE {
-        const int j = J;
-        const S hij = hsum(fmadd(b[j].sw, n0, mul(b[j].sv, f0)));
+      Force<S> F0;
+      store4(F0.n.data(), n0);
+      store3(F0.f.data(), f0);
+      sink(i, F0);
+    } else {
+      if constexpr (Out) sink.entry(i, i, get<K>(fn));
+      else data.H(i, i) = get<K>(fn);
+      if (parent_of(model, I) >= 0 || Out) {
+        // F⁰ = ⁱX_0ᵀ F = [Eᵀ n + r × Eᵀ f; Eᵀ f]; H_ij = S⁰ⱼ · F⁰ for every ancestor j.
+        V n0, f0;
+        apply_force_inverse(B.row, B.r, fn, ff, n0, f0);
         if constexpr (Out) {
-          sink.entry(i, j, hij);
-        } else {
-          data.H(i, j) = hij;
-          data.H(j, i) = hij;
+          Force<S> F0;
+          store4(F0.n.data(), n0);
+          store3(F0.f.data(), f0);
+          sink(i, F0);
         }
-      };
-      ancestors(model, I, entry);
+        auto entry = [&](auto J) SPATIAL_LAMBDA_INLINE {
+          const int j = J;
+          const S hij = hsum(fmadd(b[j].sw, n0, mul(b[j].sv, f0)));
+          if constexpr (Out) {
+            sink.entry(i, j, hij);
+          } else {
+            data.H(i, j) = hij;
+            data.H(j, i) = hij;
+          }
+        };
+        ancestors(model, I, entry);
+      }
     }
   };
 
