@@ -1,8 +1,9 @@
 #pragma once
 /// \file simd.hpp
-/// AVX2 kernels for RNEA, CRBA, ABA and forward kinematics, in double and float, on compile-time trees (unrolled
-/// per body) and on run-time trees (a loop that switches once per body on the joint's axis; per-body records in
-/// `Data::work`; the same operations in the same order, so the same results bit for bit).
+/// AVX2 kernels for RNEA, CRBA (also without H: the columns of A_G, centroidal.hpp), ABA, forward kinematics and the
+/// world Jacobian columns, in double and float, on compile-time trees (unrolled per body) and on run-time trees (a
+/// loop that switches once per body on the joint's axis; per-body records in `Data::work`; the same operations in
+/// the same order, so the same results bit for bit). The one-walk Jacobian kernel is in kinematics.hpp.
 ///
 /// The scalar algorithms (algorithms.hpp) spend about one instruction per flop on 3-vector arithmetic. Here every
 /// 3-vector lives in one register (lanes x, y, z and a spare fourth lane: four doubles in 256 bits, four floats in
