@@ -97,16 +97,13 @@ Inertia<S> subtree_first_moments(const Model<S, T>& model, Data<S, T>& data) {
   return total;
 }
 
-/// The composite inertia of every subtree in base coordinates into `data.Ic`, the motion subspaces in base
-/// coordinates into `data.S_base` (after `forward_kinematics(model, data, q)`, on which it relies). Returns the sum over the tree's roots.
+/// The composite inertia of every subtree in base coordinates into `data.Ic` (after `forward_kinematics(model, data,
+/// q)`, on which it relies). Returns the sum over the tree's roots.
 template <class S, class T>
 Inertia<S> composite_inertias_base(const Model<S, T>& model, Data<S, T>& data) {
-  // The AVX2 forward kinematics (every caller runs forward_kinematics first) has left S_base already.
-  const bool have_s = simd_applies(model);
   for_each_body(model, [&](auto I) {
     const auto k = static_cast<std::size_t>(int(I));
     data.Ic[k] = model.inertia(int(I)).transformed_inverse(data.X_base[k]);
-    if (!have_s) data.S_base[k] = model.joint(I).subspace_inverse(data.X_base[k]);
   });
   Inertia<S> total = Inertia<S>::Zero();
   for_each_body_reverse(model, [&](auto I) {
@@ -204,7 +201,7 @@ void tree_com_columns(const Model<S, T>& model, Data<S, T>& data, int body, S mb
                       const Matrix3<S>& E, int offset, J& Jc) {
   (void)E;
   const S inv_mb = S(1) / mb;
-  const bool have_s = simd_applies(model);  // the AVX2 forward kinematics left S_base (see composite_inertias_base)
+  const bool have_s = simd_applies(model);  // the AVX2 forward kinematics has left S_base
   for_each_body(model, [&](auto I) {
     const int j = I;
     const auto k = static_cast<std::size_t>(j);
