@@ -592,7 +592,8 @@ SPATIAL_INLINE void world_jacobian_columns(const Motion<S>* s, int n, const Tran
   // transpose gives the rows of E0, i.e. the columns of E0ᵀ: comb with them is E0ᵀ x.
   const V r0 = load3(X0.r.data());
   for (int c = 0; c < n; ++c) {
-    V w = load3z(s[c].w.data()), v = load3z(s[c].v.data());
+    // v is the last 3-vector of the Motion, and of the array: three lanes only (load3 reads nothing beyond).
+    V w = load3z(s[c].w.data()), v = load3(s[c].v.data());
     if constexpr (Move) {
       w = comb(row[0], row[1], row[2], w);
       v = add(comb(row[0], row[1], row[2], v), cross(r0, w));
