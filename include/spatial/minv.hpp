@@ -28,6 +28,7 @@
 #include "spatial/floating.hpp"
 
 #include <cstddef>
+#include <type_traits>
 
 namespace spatial {
 
@@ -39,8 +40,9 @@ struct MinvBuffers {
   template <class X>
   using Array = typename ModelType::template Array<X>;
   using Matrix = Eigen::Matrix<S, matrix_dim(N), matrix_dim(N)>;
-  /// Accelerations of one body for every unit torque: rows angular then linear (as Motion), one column per joint.
-  using Block = Eigen::Matrix<S, 6, matrix_dim(N)>;
+  /// Accelerations of one body for every unit torque: rows angular then linear (as Motion), one column per joint;
+  /// row-major, so that pass 3 runs along each row's contiguous columns several at a time (SIMD).
+  using Block = Eigen::Matrix<S, 6, matrix_dim(N), matrix_dim(N) == 1 ? Eigen::ColMajor : Eigen::RowMajor>;
 
   MinvBuffers(const ModelType& tree, int n) : Minv(Matrix::Zero(n, n)) {
     if constexpr (!ModelType::is_static) {
@@ -122,40 +124,106 @@ void minv_columns(const Model<S, T>& model, Buffers& md, int off, RootForce&& ro
   }
 }
 
+/// Pass 3's inner loop over the columns c ≥ r: m = col[c] − u · ap(:, c), col[c] = m, a(:, c) = ap(:, c) + s m.
+/// The columns are independent of each other, so they go four at a time (the fixed inner loop becomes one SIMD
+/// operation per line: AVX2, NEON, or SSE2 in two halves), in blocks that end at nv and begin at or below r. The
+/// columns below r that the first block also computes are harmless: col[c] for c < r is the upper triangle (pass 3
+/// runs on the lower one; minv_symmetrize overwrites the upper one), and a body's accelerations below its own
+/// column are read by nothing but the same harmless columns of its descendants. Without a block's worth of columns
+/// above row 0 (nv − 4 · blocks < 0), a plain loop from r.
+template <class S>
+SPATIAL_INLINE void minv_row_update(S* SPATIAL_RESTRICT col, S* const (&a)[6], const S* const (&ap)[6],
+                                    const S (&u)[6], const S (&s)[6], int r, int nv) {
+  constexpr int W = 4;
+  const int blocks = (nv - r + W - 1) / W;
+  int c = nv - W * blocks;
+  const auto step = [&](int x) {
+    const S x0 = ap[0][x], x1 = ap[1][x], x2 = ap[2][x], x3 = ap[3][x], x4 = ap[4][x], x5 = ap[5][x];
+    const S m = col[x] - (u[0] * x0 + u[1] * x1 + u[2] * x2 + u[3] * x3 + u[4] * x4 + u[5] * x5);
+    col[x] = m;
+    a[0][x] = x0 + s[0] * m;
+    a[1][x] = x1 + s[1] * m;
+    a[2][x] = x2 + s[2] * m;
+    a[3][x] = x3 + s[3] * m;
+    a[4][x] = x4 + s[4] * m;
+    a[5][x] = x5 + s[5] * m;
+  };
+  if (c < 0) {
+    for (c = r; c < nv; ++c) step(c);
+    return;
+  }
+  for (; c < nv; c += W) {
+    S x[6][W], m[W];
+    for (int k = 0; k < 6; ++k)
+      for (int l = 0; l < W; ++l) x[k][l] = ap[k][c + l];
+    for (int l = 0; l < W; ++l)
+      m[l] = col[c + l] - (u[0] * x[0][l] + u[1] * x[1][l] + u[2] * x[2][l] + u[3] * x[3][l] + u[4] * x[4][l] +
+                           u[5] * x[5][l]);
+    for (int l = 0; l < W; ++l) col[c + l] = m[l];
+    for (int k = 0; k < 6; ++k)
+      for (int l = 0; l < W; ++l) a[k][c + l] = x[k][l] + s[k] * m[l];
+  }
+}
+
 /// Pass 3 of the tree: rows `off + i`, columns c ≥ off + i + 1 (and, with a free-flying root, A of the root in
 /// `A_root`, whose columns ≥ off are used). Works on the transposed entries M(c, r), c ≥ r (the lower triangle,
-/// contiguous in Eigen's column-major storage), one column of 6-vectors at a time.
+/// contiguous in Eigen's column-major storage), and the accelerations row by row (row-major blocks), so that the
+/// update of a row of H⁻¹ is one pass over contiguous arrays, four columns at a time (minv_row_update).
 template <class S, class T, class Buffers, class RootBlock>
 void minv_rows(const Model<S, T>& model, Buffers& md, int off, const RootBlock* A_root) {
   auto& M = md.Minv;
   const int nv = static_cast<int>(M.cols());
+  // Rows of the accelerations: A(k, c) at a[k][c] (row-major blocks; see MinvBuffers::Block).
+  const auto rows = [](auto& A, auto& a) {
+    using B = std::decay_t<decltype(A)>;
+    for (int k = 0; k < 6; ++k) a[k] = A.data() + k * (B::IsRowMajor ? A.cols() : 1);
+  };
   for (int i = 0; i < model.size(); ++i) {  // a plain loop, as in minv_columns
     const auto k = static_cast<std::size_t>(i);
     const int p = model.parent(i);
     const int r = off + i;
-    auto& Ai = md.A[k];
-    const Vector6<S> s = motion_col(md.S0[k]);
-    S* col = &M(0, r);
+    S* a[6];
+    rows(md.A[k], a);
+    const Motion<S>& s0 = md.S0[k];
+    const S s[6] = {s0.w[0], s0.w[1], s0.w[2], s0.v[0], s0.v[1], s0.v[2]};
+    S* SPATIAL_RESTRICT col = &M(0, r);
     if (p >= 0 || A_root) {
-      const auto& Ap = p >= 0 ? md.A[static_cast<std::size_t>(p)] : *A_root;
-      const Vector6<S> u = force_row(md.U[k]).transpose() * md.Dinv[k];
-      for (int c = r; c < nv; ++c) {
-        const Vector6<S> a = Ap.col(c);
-        const S m = col[c] - u.dot(a);
-        col[c] = m;
-        Ai.col(c) = a + s * m;
-      }
+      const S* ap[6];
+      rows(p >= 0 ? md.A[static_cast<std::size_t>(p)] : *A_root, ap);
+      const Force<S>& U = md.U[k];
+      const S dinv = md.Dinv[k];
+      const S u[6] = {U.n[0] * dinv, U.n[1] * dinv, U.n[2] * dinv, U.f[0] * dinv, U.f[1] * dinv, U.f[2] * dinv};
+      // One pass over the columns c ≥ r, independent of each other (the compiler vectorises it): the entry
+      // H⁻¹(i, c) −= Uᵢᵀ A_λ(:, c) / Dᵢ and the body's accelerations Aᵢ(:, c) = A_λ(:, c) + Sᵢ H⁻¹(i, c).
+      minv_row_update(col, a, ap, u, s, r, nv);
     } else {
-      for (int c = r; c < nv; ++c) Ai.col(c) = s * col[c];
+      for (int c = r; c < nv; ++c)
+        for (int j = 0; j < 6; ++j) a[j][c] = s[j] * col[c];
     }
   }
 }
 
-/// Upper triangle ← lower triangle.
+/// Upper triangle ← lower triangle, in 4 × 4 blocks (each a transposed copy of contiguous columns of four) where
+/// whole blocks fit, element by element elsewhere.
 template <class Matrix>
 void minv_symmetrize(Matrix& M) {
+  using S = typename Matrix::Scalar;
   const auto n = M.rows();
-  for (Eigen::Index j = 0; j < n; ++j)
+  const Eigen::Index whole = n - n % 4;
+  for (Eigen::Index jb = 0; jb < whole; jb += 4) {
+    for (Eigen::Index j = jb; j < jb + 4; ++j)
+      for (Eigen::Index i = j + 1; i < jb + 4; ++i) M(j, i) = M(i, j);
+    for (Eigen::Index ib = jb + 4; ib < whole; ib += 4) {
+      S b[4][4];
+      for (int k = 0; k < 4; ++k)
+        for (int l = 0; l < 4; ++l) b[k][l] = M(ib + l, jb + k);
+      for (int l = 0; l < 4; ++l)
+        for (int k = 0; k < 4; ++k) M(jb + k, ib + l) = b[k][l];
+    }
+    for (Eigen::Index i = whole; i < n; ++i)
+      for (Eigen::Index j = jb; j < jb + 4; ++j) M(j, i) = M(i, j);
+  }
+  for (Eigen::Index j = whole; j < n; ++j)
     for (Eigen::Index i = j + 1; i < n; ++i) M(j, i) = M(i, j);
 }
 }  // namespace detail
