@@ -125,8 +125,8 @@ void minv_columns(const Model<S, T>& model, Buffers& md, int off, RootForce&& ro
 }
 
 /// Pass 3's inner loop over the columns c ≥ r: m = col[c] − u · ap(:, c), col[c] = m, a(:, c) = ap(:, c) + s m.
-/// The columns are independent of each other, so they go four at a time (the fixed inner loop becomes one SIMD
-/// operation per line: AVX2, NEON, or SSE2 in two halves), in blocks that end at nv and begin at or below r. The
+/// The columns are independent of each other, so they go four at a time (Eigen's packets: one AVX2 operation per
+/// line, or two SSE2 or NEON ones), in blocks that end at nv and begin at or below r. The
 /// columns below r that the first block also computes are harmless: col[c] for c < r is the upper triangle (pass 3
 /// runs on the lower one; minv_symmetrize overwrites the upper one), and a body's accelerations below its own
 /// column are read by nothing but the same harmless columns of its descendants. Without a block's worth of columns
@@ -152,16 +152,20 @@ SPATIAL_INLINE void minv_row_update(S* SPATIAL_RESTRICT col, S* const (&a)[6], c
     for (c = r; c < nv; ++c) step(c);
     return;
   }
+  using Lanes = Eigen::Array<S, W, 1>;  // Eigen's packets: one AVX2 register, two SSE2 or NEON ones
+  using In = Eigen::Map<const Lanes>;
+  using Out = Eigen::Map<Lanes>;
   for (; c < nv; c += W) {
-    S x[6][W], m[W];
-    for (int k = 0; k < 6; ++k)
-      for (int l = 0; l < W; ++l) x[k][l] = ap[k][c + l];
-    for (int l = 0; l < W; ++l)
-      m[l] = col[c + l] - (u[0] * x[0][l] + u[1] * x[1][l] + u[2] * x[2][l] + u[3] * x[3][l] + u[4] * x[4][l] +
-                           u[5] * x[5][l]);
-    for (int l = 0; l < W; ++l) col[c + l] = m[l];
-    for (int k = 0; k < 6; ++k)
-      for (int l = 0; l < W; ++l) a[k][c + l] = x[k][l] + s[k] * m[l];
+    const Lanes x0 = In(ap[0] + c), x1 = In(ap[1] + c), x2 = In(ap[2] + c);
+    const Lanes x3 = In(ap[3] + c), x4 = In(ap[4] + c), x5 = In(ap[5] + c);
+    const Lanes m = In(col + c) - (u[0] * x0 + u[1] * x1 + u[2] * x2 + u[3] * x3 + u[4] * x4 + u[5] * x5);
+    Out(col + c) = m;
+    Out(a[0] + c) = x0 + s[0] * m;
+    Out(a[1] + c) = x1 + s[1] * m;
+    Out(a[2] + c) = x2 + s[2] * m;
+    Out(a[3] + c) = x3 + s[3] * m;
+    Out(a[4] + c) = x4 + s[4] * m;
+    Out(a[5] + c) = x5 + s[5] * m;
   }
 }
 
