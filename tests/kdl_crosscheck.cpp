@@ -169,17 +169,20 @@ State random_state(int n, std::mt19937& rng) {
   std::uniform_real_distribution<double> u(-5.0, 5.0);
   std::bernoulli_distribution loaded(1.0 / 3.0);
   for (int i = 0; i < n; ++i) {
-    if (i == n - 1 || loaded(rng))  // the last body always, others with probability 1/3
-      s.fext.emplace_back(Vector3<double>(u(rng), u(rng), u(rng)), Vector3<double>(u(rng), u(rng), u(rng)));
-    else
+    if (i == n - 1 || loaded(rng)) {  // the last body always, others with probability 1/3
+      const Vector3<double> lin = spatial::testing::draw3(u, rng);  // sequenced draws (random_model.hpp)
+      const Vector3<double> ang = spatial::testing::draw3(u, rng);
+      s.fext.emplace_back(ang, lin);
+    } else {
       s.fext.push_back(Force<double>::Zero());
+    }
   }
   return s;
 }
 
 Vector3<double> random_gravity(std::mt19937& rng) {
   std::normal_distribution<double> n(0.0, 1.0);
-  return 9.81 * Vector3<double>(n(rng), n(rng), n(rng)).normalized();
+  return 9.81 * spatial::testing::draw3(n, rng).normalized();
 }
 
 std::string where(const char* shape, int n, unsigned seed, Layout layout, int state) {

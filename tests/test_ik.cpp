@@ -47,9 +47,11 @@ Model<double> model_with_tips(const std::vector<st::RandomBody>& bodies, unsigne
                Inertia<double>::from_com(r.mass, r.com, r.inertia_com), r.axis, "joint" + std::to_string(i));
   }
   std::uniform_real_distribution<double> u(-0.2, 0.2);
-  for (std::size_t i = 0; i < bodies.size(); ++i)
-    b.add_fixed_body("tip" + std::to_string(i), int(i),
-                     Transform<double>(st::random_rotation(rng), V3(u(rng), u(rng), u(rng))), Inertia<double>::Zero());
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    const V3 r = st::draw3(u, rng);  // sequenced draws (random_model.hpp)
+    b.add_fixed_body("tip" + std::to_string(i), int(i), Transform<double>(st::random_rotation(rng), r),
+                     Inertia<double>::Zero());
+  }
   return b.build();
 }
 

@@ -140,7 +140,8 @@ Model<double> random_model_with_frames(int n, Shape shape, unsigned seed) {
 Inertia<double> random_root_inertia(std::mt19937& rng) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   const double m = 2.0 + u(rng);
-  return Inertia<double>::from_com(m, 0.1 * V3(u(rng), u(rng), u(rng)), spatial::testing::random_inertia_com(rng, m));
+  const Matrix3<double> Ic = spatial::testing::random_inertia_com(rng, m);
+  return Inertia<double>::from_com(m, 0.1 * spatial::testing::draw3(u, rng), Ic);
 }
 
 template <class S, class T>

@@ -21,9 +21,26 @@ struct RandomBody {
   Matrix3<double> inertia_com; // about the CoM, body axes
 };
 
+// The draws are sequenced (a function call's arguments are evaluated in an unspecified order: GCC goes right to
+// left, clang left to right, so the same seed gave the two compilers different trees). They are taken last argument
+// first, the order GCC's builds always used, so that the GCC build's random trees are those they were.
+
+/// Three draws of `u` (any distribution), in the order described above: z, then y, then x.
+template <class Distribution>
+Vector3<double> draw3(Distribution& u, std::mt19937& rng) {
+  const double z = u(rng);
+  const double y = u(rng);
+  const double x = u(rng);
+  return Vector3<double>(x, y, z);
+}
+
 inline Matrix3<double> random_rotation(std::mt19937& rng) {
   std::normal_distribution<double> n(0.0, 1.0);
-  Eigen::Quaterniond qt(n(rng), n(rng), n(rng), n(rng));
+  const double z = n(rng);
+  const double y = n(rng);
+  const double x = n(rng);
+  const double w = n(rng);
+  Eigen::Quaterniond qt(w, x, y, z);
   qt.normalize();
   return qt.toRotationMatrix();
 }
@@ -57,16 +74,17 @@ inline std::vector<RandomBody> random_bodies(int n, Shape shape, unsigned seed, 
     b.parent = shape == Shape::Chain || i == 0 ? i - 1 : std::uniform_int_distribution<int>(-1, i - 1)(rng);
     b.type = all_joint_types ? all[std::uniform_int_distribution<int>(0, 7)(rng)]
                              : revolute[std::uniform_int_distribution<int>(0, 3)(rng)];
-    b.axis = Vector3<double>(u(rng), u(rng), u(rng)).normalized();
+    b.axis = draw3(u, rng).normalized();
     switch (b.type) {
       case JointType::RevoluteX: case JointType::PrismaticX: b.axis = Vector3<double>::UnitX(); break;
       case JointType::RevoluteY: case JointType::PrismaticY: b.axis = Vector3<double>::UnitY(); break;
       case JointType::RevoluteZ: case JointType::PrismaticZ: b.axis = Vector3<double>::UnitZ(); break;
       default: break;
     }
-    b.X_tree = Transform<double>(random_rotation(rng), 0.3 * Vector3<double>(u(rng), u(rng), u(rng)));
+    const Vector3<double> r = 0.3 * draw3(u, rng);
+    b.X_tree = Transform<double>(random_rotation(rng), r);
     b.mass = mass(rng);
-    b.com = 0.2 * Vector3<double>(u(rng), u(rng), u(rng));
+    b.com = 0.2 * draw3(u, rng);
     b.inertia_com = random_inertia_com(rng, b.mass);
     out.push_back(b);
   }
@@ -117,7 +135,8 @@ inline Model<double> random_model(int n, Shape shape, unsigned seed, bool all_jo
 inline Inertia<double> random_root_inertia(std::mt19937& rng) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   const double m = 2.0 + u(rng);
-  return Inertia<double>::from_com(m, 0.1 * Vector3<double>(u(rng), u(rng), u(rng)), random_inertia_com(rng, m));
+  const Matrix3<double> Ic = random_inertia_com(rng, m);
+  return Inertia<double>::from_com(m, 0.1 * draw3(u, rng), Ic);
 }
 
 /// A floating-base model: the random tree of `random_model` (every joint type) under a random root body "root".
