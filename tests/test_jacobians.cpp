@@ -129,20 +129,16 @@ Model<double> random_model_with_frames(int n, Shape shape, unsigned seed) {
   }
   std::mt19937 rng(seed + 77);
   const Inertia<double> small = Inertia<double>::from_com(0.1, V3::Zero(), 1e-4 * M3::Identity());
-  for (int body : {-1, n - 1, n / 2})
+  for (int body : {-1, n - 1, n / 2}) {
+    // Sequenced draws, in GCC's order (random_model.hpp, draw3): the offset, then the rotation.
+    const Eigen::VectorXd r = spatial::testing::random_vector(3, rng, 0.4);
     b.add_fixed_body("frame_on_" + std::to_string(body), body,
-                     Transform<double>(spatial::testing::random_rotation(rng),
-                                       spatial::testing::random_vector(3, rng, 0.4)),
-                     small);
+                     Transform<double>(spatial::testing::random_rotation(rng), r), small);
+  }
   return b.build();
 }
 
-Inertia<double> random_root_inertia(std::mt19937& rng) {
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  const double m = 2.0 + u(rng);
-  const Matrix3<double> Ic = spatial::testing::random_inertia_com(rng, m);
-  return Inertia<double>::from_com(m, 0.1 * spatial::testing::draw3(u, rng), Ic);
-}
+using spatial::testing::random_root_inertia;
 
 template <class S, class T>
 int n_bodies(const Model<S, T>& m) { return m.size(); }

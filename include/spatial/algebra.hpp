@@ -25,13 +25,6 @@
 #define SPATIAL_INLINE inline
 #endif
 
-/// A pointer that aliases no other pointer of the function (lets the compiler vectorise loops over several arrays).
-#if defined(__GNUC__) || defined(__clang__) || defined(_MSC_VER)
-#define SPATIAL_RESTRICT __restrict
-#else
-#define SPATIAL_RESTRICT
-#endif
-
 /// Fully unrolls the fixed 3-trip loops of the 3×3 kernels (GCC does not always do it by itself).
 #if defined(__clang__) || defined(__GNUC__)
 #define SPATIAL_UNROLL _Pragma("GCC unroll 3")

@@ -28,7 +28,6 @@
 #include "spatial/floating.hpp"
 
 #include <cstddef>
-#include <type_traits>
 
 namespace spatial {
 
@@ -63,19 +62,6 @@ struct MinvBuffers {
   Array<S> Dinv{};                 ///< 1 / Dᵢ
   Array<Block> A{};                ///< pass 3: body accelerations for the unit torques (columns ≥ the body's own)
 };
-
-template <class S>
-SPATIAL_INLINE Eigen::Matrix<S, 1, 6> force_row(const Force<S>& f) {
-  Eigen::Matrix<S, 1, 6> r;
-  r << f.n.transpose(), f.f.transpose();
-  return r;
-}
-template <class S>
-SPATIAL_INLINE Vector6<S> motion_col(const Motion<S>& m) {
-  Vector6<S> c;
-  c << m.w, m.v;
-  return c;
-}
 
 /// Pass 1 of the tree (leaves to root): S, Iᴬ, U, 1/D in base coordinates. X_base of `data` must be up to date.
 /// `root_IA`, if not null, receives what the root bodies pass to a free-flying root.
@@ -132,7 +118,7 @@ void minv_columns(const Model<S, T>& model, Buffers& md, int off, RootForce&& ro
 /// column are read by nothing but the same harmless columns of its descendants. Without a block's worth of columns
 /// above row 0 (nv − 4 · blocks < 0), a plain loop from r.
 template <class S>
-SPATIAL_INLINE void minv_row_update(S* SPATIAL_RESTRICT col, S* const (&a)[6], const S* const (&ap)[6],
+SPATIAL_INLINE void minv_row_update(S* col, S* const (&a)[6], const S* const (&ap)[6],
                                     const S (&u)[6], const S (&s)[6], int r, int nv) {
   constexpr int W = 4;
   const int blocks = (nv - r + W - 1) / W;
@@ -179,8 +165,7 @@ void minv_rows(const Model<S, T>& model, Buffers& md, int off, const RootBlock* 
   const int nv = static_cast<int>(M.cols());
   // Rows of the accelerations: A(k, c) at a[k][c] (row-major blocks; see MinvBuffers::Block).
   const auto rows = [](auto& A, auto& a) {
-    using B = std::decay_t<decltype(A)>;
-    for (int k = 0; k < 6; ++k) a[k] = A.data() + k * (B::IsRowMajor ? A.cols() : 1);
+    for (int k = 0; k < 6; ++k) a[k] = A.row(k).data();
   };
   for (int i = 0; i < model.size(); ++i) {  // a plain loop, as in minv_columns
     const auto k = static_cast<std::size_t>(i);
@@ -190,14 +175,14 @@ void minv_rows(const Model<S, T>& model, Buffers& md, int off, const RootBlock* 
     rows(md.A[k], a);
     const Motion<S>& s0 = md.S0[k];
     const S s[6] = {s0.w[0], s0.w[1], s0.w[2], s0.v[0], s0.v[1], s0.v[2]};
-    S* SPATIAL_RESTRICT col = &M(0, r);
+    S* col = &M(0, r);
     if (p >= 0 || A_root) {
       const S* ap[6];
       rows(p >= 0 ? md.A[static_cast<std::size_t>(p)] : *A_root, ap);
       const Force<S>& U = md.U[k];
       const S dinv = md.Dinv[k];
       const S u[6] = {U.n[0] * dinv, U.n[1] * dinv, U.n[2] * dinv, U.f[0] * dinv, U.f[1] * dinv, U.f[2] * dinv};
-      // One pass over the columns c ≥ r, independent of each other (the compiler vectorises it): the entry
+      // One pass over the columns c ≥ r, independent of each other, four at a time: the entry
       // H⁻¹(i, c) −= Uᵢᵀ A_λ(:, c) / Dᵢ and the body's accelerations Aᵢ(:, c) = A_λ(:, c) + Sᵢ H⁻¹(i, c).
       minv_row_update(col, a, ap, u, s, r, nv);
     } else {
