@@ -37,6 +37,7 @@ from ._spatial import (  # noqa: F401  (re-exported)
     center_of_mass,
     centroidal_momentum,
     centroidal_momentum_matrix,
+    centroidal_momentum_time_variation,
     center_of_pressure,
     com_jacobian,
     constrained_forward_dynamics,
@@ -46,7 +47,10 @@ from ._spatial import (  # noqa: F401  (re-exported)
     crba,
     difference,
     forward_dynamics,
+    frame_acceleration,
+    frame_classical_acceleration,
     frame_jacobian,
+    frame_jacobian_time_variation,
     frame_placement,
     frame_velocity,
     gravity,
@@ -72,14 +76,16 @@ from . import _spatial
 
 __all__ = [
     "Data", "Model", "ModelError", "aba", "aba_derivatives", "bias", "center_of_mass", "centroidal_momentum",
-    "centroidal_momentum_matrix", "com_jacobian", "crba", "difference", "forward_dynamics", "frame_jacobian",
-    "frame_placement", "frame_velocity", "gravity", "hoap3_double_pendulum", "hoap3_floating", "hoap3_stance_left",
-    "hoap3_stance_right", "hoap3_torso", "integrate", "inverse_inertia", "kinetic_energy", "load_urdf",
-    "load_urdf_string", "neutral", "normalize", "potential_energy", "random_configuration", "rnea",
-    "rnea_derivatives", "urdf_path", "IkTask", "IkStatus", "IkSolver", "ik_position", "ik_orientation", "ik_pose",
-    "ik_center_of_mass", "Contact", "Contact3D", "Contact6D", "Contacts", "center_of_pressure",
-    "constrained_forward_dynamics", "contact_inverse_dynamics", "contact_jacobian", "contact_wrench",
-    "impulse_dynamics", "multibody_zmp", "lock_joints", "keep_joints", "keep_branches",
+    "centroidal_momentum_matrix", "centroidal_momentum_time_variation", "com_jacobian", "crba", "difference",
+    "forward_dynamics", "frame_acceleration", "frame_classical_acceleration", "frame_jacobian",
+    "frame_jacobian_time_variation", "frame_placement", "frame_velocity", "gravity", "hoap3_double_pendulum",
+    "hoap3_floating", "hoap3_stance_left", "hoap3_stance_right", "hoap3_torso", "integrate", "inverse_inertia",
+    "kinetic_energy", "load_urdf", "load_urdf_string", "neutral", "normalize", "potential_energy",
+    "random_configuration", "rnea", "rnea_derivatives", "urdf_path", "IkTask", "IkStatus", "IkSolver",
+    "ik_position", "ik_orientation", "ik_pose", "ik_center_of_mass", "Contact", "Contact3D", "Contact6D",
+    "Contacts", "center_of_pressure", "constrained_forward_dynamics", "contact_inverse_dynamics",
+    "contact_jacobian", "contact_wrench", "impulse_dynamics", "multibody_zmp", "lock_joints", "keep_joints",
+    "keep_branches",
 ]
 
 _URDF_DIR = _os.path.join(_os.path.dirname(__file__), "urdf")

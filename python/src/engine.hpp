@@ -39,10 +39,14 @@ enum class Op : int {
   FramePlacement,
   FrameJacobian,
   FrameVelocity,
+  FrameAcceleration,
+  FrameClassicalAcceleration,
+  FrameJacobianTimeVariation,
   CenterOfMass,
   ComJacobian,
   CentroidalMatrix,
   CentroidalMomentum,
+  CentroidalMomentumRate,
   Integrate,
   Difference,
   Normalize,
@@ -80,7 +84,7 @@ struct Call {
   std::ptrdiff_t count = 1;
   In in[4];     ///< the operation's array inputs in its argument order (q, v, a|tau, fext)
   Out out[3];   ///< its outputs in order
-  int target = -1;       ///< frame or body index (FramePlacement, FrameJacobian, FrameVelocity)
+  int target = -1;       ///< frame or body index (the Frame* operations)
   bool target_is_body = false;
   ReferenceFrame reference = ReferenceFrame::LocalWorldAligned;
   double dt = 1.0;       ///< Integrate

@@ -212,10 +212,14 @@ class Engine final : public ModelBase {
       SPATIAL_PY_OP(FramePlacement)
       SPATIAL_PY_OP(FrameJacobian)
       SPATIAL_PY_OP(FrameVelocity)
+      SPATIAL_PY_OP(FrameAcceleration)
+      SPATIAL_PY_OP(FrameClassicalAcceleration)
+      SPATIAL_PY_OP(FrameJacobianTimeVariation)
       SPATIAL_PY_OP(CenterOfMass)
       SPATIAL_PY_OP(ComJacobian)
       SPATIAL_PY_OP(CentroidalMatrix)
       SPATIAL_PY_OP(CentroidalMomentum)
+      SPATIAL_PY_OP(CentroidalMomentumRate)
       SPATIAL_PY_OP(Integrate)
       SPATIAL_PY_OP(Difference)
       SPATIAL_PY_OP(Normalize)
@@ -342,6 +346,21 @@ class Engine final : public ModelBase {
       put_motion(c.out[0], b,
                  c.target_is_body ? body_velocity(m, d, c.target, c.reference)
                                   : frame_velocity(m, d, c.target, c.reference));
+    } else if constexpr (O == Op::FrameAcceleration) {
+      forward_kinematics(m, d, q_at(c.in[0], b), v_at(c.in[1], b), v_at(c.in[2], b));
+      put_motion(c.out[0], b,
+                 c.target_is_body ? body_acceleration(m, d, c.target, c.reference)
+                                  : frame_acceleration(m, d, c.target, c.reference));
+    } else if constexpr (O == Op::FrameClassicalAcceleration) {
+      forward_kinematics(m, d, q_at(c.in[0], b), v_at(c.in[1], b), v_at(c.in[2], b));
+      const Eigen::Vector3d x = c.target_is_body ? body_classical_acceleration(m, d, c.target, c.reference)
+                                                 : frame_classical_acceleration(m, d, c.target, c.reference);
+      put_vector(c.out[0], b, x);
+    } else if constexpr (O == Op::FrameJacobianTimeVariation) {
+      compute_joint_jacobians_time_variation(m, d, q_at(c.in[0], b), v_at(c.in[1], b));
+      if (c.target_is_body) body_jacobian_time_variation(m, d, c.target, c.reference, ws.J);
+      else frame_jacobian_time_variation(m, d, c.target, c.reference, ws.J);
+      put_matrix(c.out[0], b, ws.J);
     } else if constexpr (O == Op::CenterOfMass) {
       const Eigen::Vector3d x = center_of_mass(m, d, q_at(c.in[0], b));
       put_vector(c.out[0], b, x);
@@ -354,6 +373,11 @@ class Engine final : public ModelBase {
     } else if constexpr (O == Op::CentroidalMomentum) {
       const Vector6<double> h = centroidal_momentum(m, d, q_at(c.in[0], b), v_at(c.in[1], b));
       put_vector(c.out[0], b, h);
+    } else if constexpr (O == Op::CentroidalMomentumRate) {
+      const CentroidalMomentumRate<double> r =
+          centroidal_momentum_time_variation(m, d, q_at(c.in[0], b), v_at(c.in[1], b), v_at(c.in[2], b));
+      put_vector(c.out[0], b, r.dhg);
+      put_vector(c.out[1], b, r.dAg_v);
     } else if constexpr (O == Op::Integrate) {
       Eigen::Map<VecQ> out(c.out[0].at(b), nq);
       if constexpr (kFloating) {

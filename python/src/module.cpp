@@ -360,6 +360,77 @@ NB_MODULE(_spatial, m) {
         },
         "model"_a, "q"_a, "v"_a, "frame"_a, "reference"_a = "local_world_aligned", nb::kw_only(), SPATIAL_PY_KW,
         "Spatial velocity (6,) of a frame or body, [v_lin; omega], in the reference frame (= J v).");
+  // The frame's accelerations after forward kinematics (q, v, a); a = 0 gives the drift J̇ v (kinematics.hpp).
+  const auto bind_frame_acceleration = [&](const char* fn, Op op, std::size_t rows, const char* doc) {
+    m.def(fn,
+          [fn, op, rows](const ModelBase& b, ArrayLike q, ArrayLike v, ArrayLike a, FrameArg frame,
+                         const std::string& reference, PyData* data, int threads, bool check) {
+            Args args(b, fn);
+            Call c;
+            c.op = op;
+            resolve_target(b, frame.h, fn, c);
+            c.reference = reference_of(reference, fn);
+            c.in[0] = args.vector(q.h, "q", b.nq, "nq");
+            c.in[1] = args.vector(v.h, "v", b.nv, "nv");
+            c.in[2] = args.vector(a.h, "a", b.nv, "nv");
+            Output o(args, {rows});
+            c.out[0] = o.out();
+            execute(b, c, args, data, threads, check);
+            return o.array();
+          },
+          "model"_a, "q"_a, "v"_a, "a"_a, "frame"_a, "reference"_a = "local_world_aligned", nb::kw_only(),
+          SPATIAL_PY_KW, doc);
+  };
+  bind_frame_acceleration(
+      "frame_acceleration", Op::FrameAcceleration, 6,
+      "Spatial acceleration (6,) of a frame or body, [a_lin; omega_dot], gravity not included, in the reference "
+      "frame: the time derivative of frame_velocity for 'local' and 'world'; 'local_world_aligned' rotates the "
+      "'local' vector to world axes (Pinocchio's getFrameAcceleration). a = 0 gives the drift J_dot v (local, world). "
+      "Not the classical acceleration of the origin: see frame_classical_acceleration.");
+  bind_frame_acceleration(
+      "frame_classical_acceleration", Op::FrameClassicalAcceleration, 3,
+      "Classical acceleration (3,) of the frame's origin, p_ddot = a_lin + omega x v_lin, gravity not included: "
+      "frame axes for 'local', world axes for 'world' and 'local_world_aligned' (both the origin's acceleration; "
+      "Pinocchio's getFrameClassicalAcceleration for LOCAL and LOCAL_WORLD_ALIGNED). a = 0 gives the linear rows of "
+      "frame_jacobian_time_variation('local_world_aligned') @ v.");
+  m.def("frame_jacobian_time_variation",
+        [](const ModelBase& b, ArrayLike q, ArrayLike v, FrameArg frame, const std::string& reference,
+           PyData* data, int threads, bool check) {
+          const char* fn = "frame_jacobian_time_variation";
+          Args args(b, fn);
+          Call c;
+          c.op = Op::FrameJacobianTimeVariation;
+          resolve_target(b, frame.h, fn, c);
+          c.reference = reference_of(reference, fn);
+          c.in[0] = args.vector(q.h, "q", b.nq, "nq");
+          c.in[1] = args.vector(v.h, "v", b.nv, "nv");
+          Output o(args, {6, std::size_t(b.nv)});
+          c.out[0] = o.out();
+          execute(b, c, args, data, threads, check);
+          return o.array();
+        },
+        "model"_a, "q"_a, "v"_a, "frame"_a, "reference"_a = "local_world_aligned", nb::kw_only(), SPATIAL_PY_KW,
+        "d/dt of frame_jacobian(q, frame, reference) along v: (6, nv), rows [v_lin; omega] (Pinocchio's "
+        "getFrameJacobianTimeVariation). J_dot v is frame_acceleration(q, v, 0) for 'local' and 'world'; for "
+        "'local_world_aligned' its linear rows are the classical acceleration of the origin.");
+  m.def("centroidal_momentum_time_variation",
+        [](const ModelBase& b, ArrayLike q, ArrayLike v, ArrayLike a, PyData* data, int threads, bool check) {
+          const char* fn = "centroidal_momentum_time_variation";
+          Args args(b, fn);
+          Call c;
+          c.op = Op::CentroidalMomentumRate;
+          c.in[0] = args.vector(q.h, "q", b.nq, "nq");
+          c.in[1] = args.vector(v.h, "v", b.nv, "nv");
+          c.in[2] = args.vector(a.h, "a", b.nv, "nv");
+          Output dh(args, {6}), drift(args, {6});
+          c.out[0] = dh.out(), c.out[1] = drift.out();
+          execute(b, c, args, data, threads, check);
+          return std::make_tuple(dh.array(), drift.array());
+        },
+        "model"_a, "q"_a, "v"_a, "a"_a, nb::kw_only(), SPATIAL_PY_KW,
+        "(dh_G, dA_G v), each (6,): the rate of the centroidal momentum for acceleration a and its velocity part "
+        "(a = 0), [linear; angular about the CoM], world axes (fixed base: base axes), gravity not included "
+        "(Pinocchio's computeCentroidalMomentumTimeVariation: data.dhg).");
 
   m.def("rnea_derivatives",
         [](const ModelBase& b, ArrayLike q, ArrayLike v, ArrayLike a, PyData* data, int threads, bool check) {

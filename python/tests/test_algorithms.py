@@ -264,6 +264,91 @@ def test_frame_jacobian_fd(any_model):
                           spatial.frame_jacobian(m, s.Q[0], frames[0], reference="local_world_aligned"))
 
 
+def along(m, q, v, a, t):
+    """The state at time t of the motion through (q, v) with acceleration a: q(t) = q (+) (v t + a t^2 / 2) through
+    integrate (on a free-flyer its body velocity is v + a t + O(t^2) with an even O(t^2), which central differences
+    cancel), v(t) = v + a t."""
+    return spatial.integrate(m, q, v * t + 0.5 * a * t * t), v + a * t
+
+
+def time_derivative(m, f, q, v, a, h=1e-5):
+    """d/dt f(q(t), v(t)) at t = 0 by central differences along `along`."""
+    return (f(*along(m, q, v, a, h)) - f(*along(m, q, v, a, -h))) / (2 * h)
+
+
+def test_frame_accelerations_fd(any_model):
+    """frame_acceleration is the time derivative of frame_velocity (local, world; local_world_aligned is the local
+    vector in world axes), frame_classical_acceleration that of the origin's velocity (the linear part of the
+    local_world_aligned velocity), frame_jacobian_time_variation that of frame_jacobian; J_dot v is the drift
+    (a = 0) as kinematics.hpp states it."""
+    key, m = any_model
+    s = states(m, 2, seed=215)
+    frames = frames_of(key) + [m.body_names[-1]]
+    for k in range(2):
+        q, v, a = s.Q[k], s.V[k], s.A[k]
+        zero = np.zeros(m.nv)
+        for frame in frames:
+            what = f"{key} {frame}"
+            R = spatial.frame_placement(m, q, frame)[:3, :3]
+            acc = {}
+            for ref in ("local", "world"):
+                acc[ref] = spatial.frame_acceleration(m, q, v, a, frame, reference=ref)
+                assert acc[ref].shape == (6,)
+                fd = time_derivative(m, lambda Q, V: spatial.frame_velocity(m, Q, V, frame, reference=ref), q, v, a)
+                assert_close(acc[ref], fd, 1e-7, err_msg=f"{what} frame_acceleration {ref}")
+            lwa = spatial.frame_acceleration(m, q, v, a, frame, reference="local_world_aligned")
+            assert_close(lwa, np.concatenate([R @ acc["local"][:3], R @ acc["local"][3:]]), 1e-12,
+                         err_msg=f"{what} frame_acceleration local_world_aligned")
+            # the classical acceleration of the origin: d/dt of its velocity in world axes, or in the frame's axes
+            pdd = spatial.frame_classical_acceleration(m, q, v, a, frame, reference="world")
+            assert pdd.shape == (3,)
+            fd = time_derivative(
+                m, lambda Q, V: spatial.frame_velocity(m, Q, V, frame, reference="local_world_aligned")[:3], q, v, a)
+            assert_close(pdd, fd, 1e-7, err_msg=f"{what} frame_classical_acceleration")
+            assert_close(spatial.frame_classical_acceleration(m, q, v, a, frame, reference="local_world_aligned"),
+                         pdd, 1e-15, err_msg=f"{what} classical lwa = world")
+            assert_close(spatial.frame_classical_acceleration(m, q, v, a, frame, reference="local"), R.T @ pdd,
+                         1e-12, err_msg=f"{what} classical local")
+            vl = spatial.frame_velocity(m, q, v, frame, reference="local")
+            assert_close(pdd, R @ (acc["local"][:3] + np.cross(vl[3:], vl[:3])), 1e-12,
+                         err_msg=f"{what} p_ddot = a_lin + w x v_lin")
+            for ref in REFERENCES:
+                dJ = spatial.frame_jacobian_time_variation(m, q, v, frame, reference=ref)
+                assert dJ.shape == (6, m.nv)
+                fd = time_derivative(m, lambda Q, V: spatial.frame_jacobian(m, Q, frame, reference=ref), q, v, zero)
+                assert_close(dJ, fd, 1e-7, atol_scale=scale(fd), err_msg=f"{what} frame_jacobian_time_variation {ref}")
+                # acceleration = J a + J_dot v
+                J = spatial.frame_jacobian(m, q, frame, reference=ref)
+                if ref == "local_world_aligned":
+                    drift = np.concatenate([spatial.frame_classical_acceleration(m, q, v, zero, frame, reference=ref),
+                                            spatial.frame_acceleration(m, q, v, zero, frame, reference=ref)[3:]])
+                    full = np.concatenate([pdd, lwa[3:]])
+                else:
+                    drift = spatial.frame_acceleration(m, q, v, zero, frame, reference=ref)
+                    full = acc[ref]
+                assert_close(dJ @ v, drift, 1e-12, atol_scale=scale(drift), err_msg=f"{what} J_dot v {ref}")
+                assert_close(J @ a + dJ @ v, full, 1e-11, atol_scale=scale(full), err_msg=f"{what} J a + J_dot v {ref}")
+
+
+def test_centroidal_momentum_time_variation_fd(any_model):
+    """dh_G = d/dt h_G(q(t), v(t)); its drift is dh_G at a = 0 and dh_G is linear in a with slope A_G; the linear rows
+    are M times the CoM's acceleration."""
+    key, m = any_model
+    s = states(m, 2, seed=216)
+    for k in range(2):
+        q, v, a = s.Q[k], s.V[k], s.A[k]
+        dh, drift = spatial.centroidal_momentum_time_variation(m, q, v, a)
+        assert dh.shape == (6,) and drift.shape == (6,)
+        fd = time_derivative(m, lambda Q, V: spatial.centroidal_momentum(m, Q, V), q, v, a)
+        assert_close(dh, fd, 1e-7, err_msg=f"{key} dh_G")
+        dh0, drift0 = spatial.centroidal_momentum_time_variation(m, q, v, np.zeros(m.nv))
+        assert_close(dh0, drift, 1e-12, err_msg=f"{key} drift = dh_G(a = 0)")
+        assert_close(drift0, drift, 1e-15, err_msg=f"{key} drift independent of a")
+        assert_close(dh, drift + spatial.centroidal_momentum_matrix(m, q) @ a, 1e-11, err_msg=f"{key} A_G a + drift")
+        cdd = time_derivative(m, lambda Q, V: spatial.com_jacobian(m, Q) @ V, q, v, a)
+        assert_close(dh[:3], com_mass(key) * cdd, 1e-7, err_msg=f"{key} M c_ddot")
+
+
 def test_frame_on_base(stance_gen, floating_gen):
     """A frame on the fixed base does not move (zero Jacobian); the floating root's frame moves with the
     free-flyer only: its local Jacobian is [I 0]."""

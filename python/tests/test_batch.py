@@ -31,11 +31,20 @@ def calls(m, frame):
                            [(6, nv)]),
         "frame_velocity": (lambda Q, V, X, **kw: spatial.frame_velocity(m, Q, V, frame, reference="world", **kw),
                            [(6,)]),
+        "frame_acceleration": (lambda Q, V, X, **kw: spatial.frame_acceleration(m, Q, V, X, frame, reference="local",
+                                                                                **kw), [(6,)]),
+        "frame_classical_acceleration": (
+            lambda Q, V, X, **kw: spatial.frame_classical_acceleration(m, Q, V, X, frame, **kw), [(3,)]),
+        "frame_jacobian_time_variation": (
+            lambda Q, V, X, **kw: spatial.frame_jacobian_time_variation(m, Q, V, frame, reference="world", **kw),
+            [(6, nv)]),
         "center_of_mass": (lambda Q, V, X, **kw: spatial.center_of_mass(m, Q, **kw), [(3,)]),
         "com_jacobian": (lambda Q, V, X, **kw: spatial.com_jacobian(m, Q, **kw), [(3, nv)]),
         "centroidal_momentum_matrix": (lambda Q, V, X, **kw: spatial.centroidal_momentum_matrix(m, Q, **kw),
                                        [(6, nv)]),
         "centroidal_momentum": (lambda Q, V, X, **kw: spatial.centroidal_momentum(m, Q, V, **kw), [(6,)]),
+        "centroidal_momentum_time_variation": (
+            lambda Q, V, X, **kw: spatial.centroidal_momentum_time_variation(m, Q, V, X, **kw), [(6,)] * 2),
         "integrate": (lambda Q, V, X, **kw: spatial.integrate(m, Q, V, 0.5, **kw), [(nq,)]),
         "normalize": (lambda Q, V, X, **kw: spatial.normalize(m, Q, **kw), [(nq,)]),
         "rnea_derivatives": (lambda Q, V, X, **kw: spatial.rnea_derivatives(m, Q, V, X, **kw), [(nv, nv)] * 2),

@@ -80,6 +80,7 @@ def test_twin_algorithms(twin):
         "com_jacobian": lambda m: spatial.com_jacobian(m, s.Q),
         "centroidal_momentum_matrix": lambda m: spatial.centroidal_momentum_matrix(m, s.Q),
         "centroidal_momentum": lambda m: spatial.centroidal_momentum(m, s.Q, s.V),
+        "centroidal_momentum_time_variation": lambda m: spatial.centroidal_momentum_time_variation(m, s.Q, s.V, s.A),
         "integrate": lambda m: spatial.integrate(m, s.Q, s.V, 0.1),
         "difference": lambda m: spatial.difference(m, s.Q, s.Q[::-1]),
         "rnea_derivatives": lambda m: spatial.rnea_derivatives(m, s.Q, s.V, s.A),
@@ -94,6 +95,12 @@ def test_twin_algorithms(twin):
                 lambda m, f=frame, r=ref: spatial.frame_jacobian(m, s.Q, f, reference=r))
             checks[f"frame_velocity {frame} {ref}"] = (
                 lambda m, f=frame, r=ref: spatial.frame_velocity(m, s.Q, s.V, f, reference=r))
+            checks[f"frame_acceleration {frame} {ref}"] = (
+                lambda m, f=frame, r=ref: spatial.frame_acceleration(m, s.Q, s.V, s.A, f, reference=r))
+            checks[f"frame_classical_acceleration {frame} {ref}"] = (
+                lambda m, f=frame, r=ref: spatial.frame_classical_acceleration(m, s.Q, s.V, s.A, f, reference=r))
+            checks[f"frame_jacobian_time_variation {frame} {ref}"] = (
+                lambda m, f=frame, r=ref: spatial.frame_jacobian_time_variation(m, s.Q, s.V, f, reference=r))
     for what, f in checks.items():
         a, b = f(gen), f(run)
         if isinstance(a, tuple):

@@ -1,8 +1,9 @@
 """Against Pinocchio's Python API on the HOAP-3 URDF, fixed base (rooted at base_link, as Pinocchio's fixed model)
 and floating (Pinocchio's free-flyer, the same q, v, tau conventions: README "Floating base"). The head and wrists are
 locked at 0 in both (pin.buildReducedModel); joints are matched by name, since the joint orders differ.
-RNEA (with and without external forces), CRBA, ABA, H^-1, the derivatives, frame placements and Jacobians in the
-three reference frames, centre of mass, centroidal momentum and energies (~1e-10)."""
+RNEA (with and without external forces), CRBA, ABA, H^-1, the derivatives, frame placements, Jacobians, velocities,
+accelerations (spatial and classical) and Jacobian time variations in the three reference frames, centre of mass,
+centroidal momentum and its rate, and energies (~1e-10)."""
 
 import numpy as np
 import pytest
@@ -213,6 +214,38 @@ def test_frame_jacobians(pair, reference):
                          err_msg=f"{key} frame_velocity {frame} {reference}")
 
 
+@pytest.mark.parametrize("reference", sorted(REFS))
+def test_frame_accelerations_and_jacobian_time_variation(pair, reference):
+    """getFrameAcceleration, getFrameClassicalAcceleration (LOCAL and LOCAL_WORLD_ALIGNED: Pinocchio's WORLD variant
+    is the point at the world origin, ours the frame's origin, as for LOCAL_WORLD_ALIGNED) and
+    getFrameJacobianTimeVariation."""
+    key, p = pair
+    m, pm, pd = p.ours, p.pm, p.pd
+    s = states(m, 2, seed=509)
+    rf = getattr(pin.ReferenceFrame, REFS[reference])
+    for k in range(2):
+        q, v, a = p.q(s.Q[k]), p.v(s.V[k]), p.v(s.A[k])
+        pin.forwardKinematics(pm, pd, q, v, a)
+        pin.updateFramePlacements(pm, pd)
+        for frame in frames_to_check(m):
+            fid = p.frame(frame)
+            what = f"{key} {frame} {reference}"
+            acc = pin.getFrameAcceleration(pm, pd, fid, rf).vector  # linear first
+            assert_close(spatial.frame_acceleration(m, s.Q[k], s.V[k], s.A[k], frame, reference=reference), acc,
+                         TOL, err_msg=f"{what} frame_acceleration")
+            if reference != "world":
+                pdd = pin.getFrameClassicalAcceleration(pm, pd, fid, rf).linear
+                assert_close(spatial.frame_classical_acceleration(m, s.Q[k], s.V[k], s.A[k], frame,
+                                                                  reference=reference), pdd, TOL,
+                             err_msg=f"{what} frame_classical_acceleration")
+        pin.computeJointJacobiansTimeVariation(pm, pd, q, v)
+        pin.updateFramePlacements(pm, pd)
+        for frame in frames_to_check(m):
+            dJ = pin.getFrameJacobianTimeVariation(pm, pd, p.frame(frame), rf)
+            assert_close(spatial.frame_jacobian_time_variation(m, s.Q[k], s.V[k], frame, reference=reference),
+                         p.cols(dJ), TOL, err_msg=f"{key} {frame} {reference} frame_jacobian_time_variation")
+
+
 def test_frame_placements(pair):
     key, p = pair
     m, pm, pd = p.ours, p.pm, p.pd
@@ -238,6 +271,10 @@ def test_com_and_centroidal(pair):
             Ag = pin.ccrba(pm, pd, q, v)
             assert_close(spatial.centroidal_momentum_matrix(m, s.Q[k]), p.cols(Ag), TOL, err_msg=f"{key} A_G")
             assert_close(spatial.centroidal_momentum(m, s.Q[k], s.V[k]), pd.hg.vector, TOL, err_msg=f"{key} h_G")
+            a = p.v(s.A[k])
+            pin.computeCentroidalMomentumTimeVariation(pm, pd, q, v, a)
+            dh, _ = spatial.centroidal_momentum_time_variation(m, s.Q[k], s.V[k], s.A[k])
+            assert_close(dh, pd.dhg.vector, TOL, err_msg=f"{key} dh_G")
         else:
             # the moving bodies' CoM in base coordinates (Pinocchio's universe carries the base link)
             pin.forwardKinematics(pm, pd, q)
