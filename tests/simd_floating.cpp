@@ -1,7 +1,7 @@
 // The floating-base algorithms (floating.hpp) in a translation unit built with -mavx2 -mfma, where the tree passes
-// take the AVX2 kernels (simd.hpp) wherever the scalar path is not forced: CRBA with the free-flyer's columns,
-// RNEA, ABA and CRBA + LTDL forward dynamics against the same calls with the scalar path (`<false>`), on the HOAP-3
-// floating model and random trees, with no allocation (EIGEN_RUNTIME_NO_MALLOC).
+// take the AVX2 kernels (simd.hpp, minv.hpp) wherever the scalar path is not forced: CRBA with the free-flyer's
+// columns, RNEA, ABA, CRBA + LTDL forward dynamics and H⁻¹ (fixed base too) against the same calls with the scalar
+// path (`<false>`), on the HOAP-3 models and random trees, with no allocation (EIGEN_RUNTIME_NO_MALLOC).
 #include "support/simd_compare.hpp"
 
 #include <spatial/models/hoap3_floating.hpp>
@@ -118,6 +118,92 @@ TEST(SimdFloating, DynamicsRandomTrees) {
     compare_floating_dynamics(FloatingModel<double, RevChain24>(random_static<RevChain24>(seed), I0), seed);
 #endif
   }
+}
+
+}  // namespace
+
+namespace {
+using namespace spatial;
+using namespace spatial::testing::simd;
+
+/// H⁻¹ (minv.hpp): the AVX2 passes 1 and 2 against the scalar ones (`inverse_inertia_impl<false>`), H⁻¹ and pass 1's
+/// per-body outputs (S⁰, U, 1/D), fixed and floating base, compile-time and run-time trees, without allocation.
+template <class M, class MD, class Q>
+void compare_minv_once(const M& model, const Q& q, double tol) {
+  typename detail::ModelTraits<M>::DataType ds(model), dr(model);
+  MD ms(model), mr(model);
+  Eigen::internal::set_is_malloc_allowed(false);
+  detail::inverse_inertia_impl<true>(model, ds, ms, q);
+  detail::inverse_inertia_impl<false>(model, dr, mr, q);
+  Eigen::internal::set_is_malloc_allowed(true);
+  const double sM = double(mr.Minv.cwiseAbs().maxCoeff());
+  EXPECT_LE(double((ms.Minv - mr.Minv).cwiseAbs().maxCoeff()), tol * sM);
+  EXPECT_EQ(ms.Minv.transpose(), ms.Minv) << "H⁻¹ is symmetric by construction";
+  // The public entry point takes the AVX2 passes.
+  EXPECT_EQ(inverse_inertia(model, dr, mr, q), ms.Minv);
+  for (std::size_t k = 0; k < ms.U.size(); ++k) {
+    const double sU = std::max(1.0, double(mr.U[k].vector().cwiseAbs().maxCoeff()));
+    EXPECT_LE(double((ms.S0[k].vector() - mr.S0[k].vector()).cwiseAbs().maxCoeff()), tol) << "S0 of body " << k;
+    EXPECT_LE(double((ms.U[k].vector() - mr.U[k].vector()).cwiseAbs().maxCoeff()), tol * sU) << "U of body " << k;
+    EXPECT_LE(double(std::abs(ms.Dinv[k] - mr.Dinv[k])), tol * double(std::abs(mr.Dinv[k]))) << "1/D of body " << k;
+  }
+}
+
+template <class TreeT, class S>
+void compare_minv(const Model<S, TreeT>& model, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-3.2, 3.2);
+  // H⁻¹ is built by one division per body from D = Sᵀ Iᴬ S, whose differences grow with the tree's condition.
+  const double tol = 64 * tolerance<TreeT, S>();
+  const Model<S> twin = model.to_runtime();  // the run-time kernels (simd_applies)
+  for (int trial = 0; trial < 10; ++trial) {
+    Eigen::Matrix<S, TreeT::size, 1> q;
+    for (int i = 0; i < TreeT::size; ++i) q[i] = S(u(rng));
+    compare_minv_once<Model<S, TreeT>, MinvData<S, TreeT>>(model, q, tol);
+    compare_minv_once<Model<S>, MinvData<S>>(twin, Eigen::Matrix<S, Eigen::Dynamic, 1>(q), tol);
+  }
+}
+
+template <class TreeT, class S>
+void compare_minv(const FloatingModel<S, TreeT>& model, unsigned seed) {
+  std::mt19937 rng(seed);
+  const Eigen::Matrix<S, Eigen::Dynamic, 1> lo = Eigen::Matrix<S, Eigen::Dynamic, 1>::Constant(TreeT::size, S(-3.2));
+  const Eigen::Matrix<S, Eigen::Dynamic, 1> hi = -lo;
+  const double tol = 64 * tolerance<TreeT, S>();
+  for (int trial = 0; trial < 10; ++trial) {
+    const auto q = random_configuration(model, lo, hi, rng);
+    compare_minv_once<FloatingModel<S, TreeT>, FloatingMinvData<S, TreeT>>(model, q, tol);
+  }
+}
+
+TEST(SimdMinv, FixedBase) {
+  compare_minv(models::hoap3_stance_right::model(), 80);
+  for (unsigned seed = 81; seed < 84; ++seed) compare_minv(random_static<Rev9>(seed), seed);
+  compare_minv(models::hoap3_stance_right::model().cast<float>(), 84);
+}
+
+TEST(SimdMinv, FloatingBase) {
+  compare_minv(models::hoap3_floating::floating_model(), 85);
+  compare_minv(FloatingModel<double, Rev9>(random_static<Rev9>(86), test_root_inertia()), 86);
+}
+
+/// spd_inverse (the floating root's D₀⁻¹) against Eigen's LLT on random positive definite matrices.
+TEST(SimdMinv, SpdInverse) {
+  std::mt19937 rng(87);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int trial = 0; trial < 20; ++trial) {
+    Matrix6<double> B;
+    for (int i = 0; i < 36; ++i) B(i) = u(rng);
+    const Matrix6<double> A = B * B.transpose() + 0.1 * Matrix6<double>::Identity();
+    const Matrix6<double> X = detail::spd_inverse(A);
+    const Matrix6<double> ref = A.llt().solve(Matrix6<double>::Identity());
+    EXPECT_LE((X - ref).cwiseAbs().maxCoeff(), 1e-10 * ref.cwiseAbs().maxCoeff());
+    EXPECT_EQ(X, X.transpose());
+    EXPECT_LE((A * X - Matrix6<double>::Identity()).cwiseAbs().maxCoeff(), 1e-10);
+  }
+  Matrix6<double> N = Matrix6<double>::Identity();
+  N(3, 3) = -1.0;  // not positive definite: non-finite entries, no exception
+  EXPECT_FALSE(detail::spd_inverse(N).allFinite());
 }
 
 }  // namespace

@@ -110,6 +110,219 @@ void minv_columns(const Model<S, T>& model, Buffers& md, int off, RootForce&& ro
   }
 }
 
+#if SPATIAL_SIMD_AVX2
+namespace simd {
+/// minv_articulated's AVX2 path (double or float, revolute joints about coordinate axes: `simd_applies`), which also
+/// composes the transforms: ⁱX_λ from the joint sines and cosines and ⁱX_0 = ⁱX_λ ᵏX_0 (into data.X_up,
+/// data.X_base, data.S_base, as forward_kinematics' kernel leaves them), then each body's inertia moved to base
+/// coordinates and the articulated inertias [A B; Bᵀ C] accumulated by columns, one register per column. The
+/// results (md.S0, md.U, md.Dinv and *root_IA) agree with the scalar pass to rounding; md.IA is not written.
+template <class S, class T, class Buffers>
+void minv_articulated(const Model<S, T>& model, Data<S, T>& data, Buffers& md, ArticulatedInertia<S>* root_IA) {
+  using V = Vec<S>;
+  constexpr bool Static = Model<S, T>::is_static;
+  constexpr int NB = Static ? Model<S, T>::NB : 1;
+  struct Body {
+    V col[3], row[3], r;  // ⁱX_0: columns and rows of E, r
+    V sw, sv;             // Sᵢ in base coordinates
+    V A[3], B[3], C[3];   // Iᴬᵢ in base coordinates, by columns (children added in the second loop)
+  };
+  Body local[NB];
+  Body* b = local;
+  if constexpr (Static) keep_in_memory(b);
+  else b = records<Body>(data, model.size());
+  V root[9];  // what the root bodies pass to a free-flying root: the columns of A, B, C
+  for (V& x : root) x = zero<V>();
+
+  auto forward = [&](auto I, auto KC) SPATIAL_LAMBDA_INLINE {
+    const int i = I;
+    const auto p = parent_of(model, I);
+    constexpr int K = decltype(KC)::value;
+    const auto k = static_cast<std::size_t>(i);
+    Body& B = b[i];
+    V ucol[3], urow[3], ur;
+    joint_transform<K>(model, data, i, ucol, urow, ur);
+    if (p >= 0) {
+      const Body& P = b[p];
+      for (int c = 0; c < 3; ++c) B.col[c] = comb(ucol[0], ucol[1], ucol[2], P.col[c]);
+      B.r = add(P.r, comb(P.row[0], P.row[1], P.row[2], ur));
+      transpose(B.col[0], B.col[1], B.col[2], B.row[0], B.row[1], B.row[2]);
+    } else {
+      for (int c = 0; c < 3; ++c) B.col[c] = ucol[c], B.row[c] = urow[c];
+      B.r = ur;
+    }
+    store_transform(data.X_base[k], B.col[0], B.col[1], B.col[2], B.r);
+    B.sw = B.row[K];  // S⁰ = [Eᵀ e_K; r × Eᵀ e_K]
+    B.sv = cross(B.r, B.sw);
+    store4(data.S_base[k].w.data(), B.sw);
+    store3(data.S_base[k].v.data(), B.sv);
+    store4(md.S0[k].w.data(), B.sw);
+    store3(md.S0[k].v.data(), B.sv);
+    // Iᵢ in base coordinates, ⁱX_0ᵀ Iᵢ ⁱX_0 (Inertia::transformed_inverse): h′ = Eᵀ h, Ī′ = Eᵀ Ī E,
+    // g = h′ + (m/2) r, Ī = Ī′ − (r gᵀ + g rᵀ) + 2 (g·r) 1, h = h′ + m r; as an articulated inertia A = Ī,
+    // B = h× (column c: h × e_c), C = m 1.
+    const Inertia<S>& In = model.inertia(i);
+    const V ic0 = load3z(In.I.data()), ic1 = load3z(In.I.data() + 3), ic2 = load3(In.I.data() + 6);
+    const V hp = comb(B.row[0], B.row[1], B.row[2], load3z(In.h.data()));
+    const V g = fmadd(bcast(S(0.5) * In.m), B.r, hp);
+    const V d = bcast(S(2) * hsum(mul(g, B.r)));
+    const V h = fmadd(bcast(In.m), B.r, hp);
+    auto column = [&](auto CC) SPATIAL_LAMBDA_INLINE {
+      constexpr int c = decltype(CC)::value;
+      const V ie = comb(ic0, ic1, ic2, B.col[c]);             // column c of Ī E
+      V col = comb(B.row[0], B.row[1], B.row[2], ie);         // of Eᵀ Ī E
+      col = fnmadd(B.r, lane<c>(g), fnmadd(g, lane<c>(B.r), col));
+      B.A[c] = add(col, only<c>(d));
+      B.B[c] = mul(swap_other<c>(h), sign<c, V>());
+      B.C[c] = axis<c>(In.m);
+    };
+    column(std::integral_constant<int, 0>{});
+    column(std::integral_constant<int, 1>{});
+    column(std::integral_constant<int, 2>{});
+  };
+
+  auto backward = [&](auto I, auto) SPATIAL_LAMBDA_INLINE {
+    const int i = I;
+    const auto p = parent_of(model, I);
+    const auto k = static_cast<std::size_t>(i);
+    const Body& B = b[i];
+    // U = Iᴬ S = [A s_ω + B s_v; Bᵀ s_ω + C s_v], D = Sᵀ U.
+    V brow[3];
+    transpose(B.B[0], B.B[1], B.B[2], brow[0], brow[1], brow[2]);
+    const V un = add(comb(B.A[0], B.A[1], B.A[2], B.sw), comb(B.B[0], B.B[1], B.B[2], B.sv));
+    const V uf = add(comb(brow[0], brow[1], brow[2], B.sw), comb(B.C[0], B.C[1], B.C[2], B.sv));
+    const S dinv = S(1) / hsum(fmadd(B.sw, un, mul(B.sv, uf)));
+    store4(md.U[k].n.data(), un);
+    store3(md.U[k].f.data(), uf);
+    md.Dinv[k] = dinv;
+    // The parent (or a free-flying root) gets Iᴬ − U Uᵀ / D: column c of A loses un (un_c / D), of B un (uf_c / D),
+    // of C uf (uf_c / D).
+    const V bd = bcast(dinv);
+    const V wn = mul(un, bd), wf = mul(uf, bd);
+    auto give = [&](V* pa, V* pb, V* pc) SPATIAL_LAMBDA_INLINE {
+      auto column = [&](auto CC) SPATIAL_LAMBDA_INLINE {
+        constexpr int c = decltype(CC)::value;
+        pa[c] = add(pa[c], fnmadd(un, lane<c>(wn), B.A[c]));
+        pb[c] = add(pb[c], fnmadd(un, lane<c>(wf), B.B[c]));
+        pc[c] = add(pc[c], fnmadd(uf, lane<c>(wf), B.C[c]));
+      };
+      column(std::integral_constant<int, 0>{});
+      column(std::integral_constant<int, 1>{});
+      column(std::integral_constant<int, 2>{});
+    };
+    if (p >= 0) {
+      Body& P = b[p];
+      give(P.A, P.B, P.C);
+    } else if (root_IA) {
+      give(root, root + 3, root + 6);
+    }
+  };
+
+  bodies(model, forward);
+  bodies_reverse(model, backward);
+  if (root_IA) {
+    Matrix3<S>* blocks[3] = {&root_IA->A, &root_IA->B, &root_IA->C};
+    for (int m = 0; m < 3; ++m)
+      for (int c = 0; c < 3; ++c) {
+        S x[4];
+        store4(x, root[3 * m + c]);
+        blocks[m]->col(c) += Vector3<S>(x[0], x[1], x[2]);
+      }
+  }
+}
+
+/// minv_columns' AVX2 path (double or float, any joint): the force f as two registers.
+template <class S, class T, class Buffers, class RootForce>
+void minv_columns(const Model<S, T>& model, Buffers& md, int off, RootForce&& root_force) {
+  using V = Vec<S>;
+  auto& M = md.Minv;
+  for (int j = 0; j < model.size(); ++j) {
+    const auto jk = static_cast<std::size_t>(j);
+    const S dj = md.Dinv[jk];
+    M(off + j, off + j) = dj;
+    const V bj = bcast(dj);
+    V fn = mul(load3z(md.U[jk].n.data()), bj), ff = mul(load3(md.U[jk].f.data()), bj);
+    for (int a = model.parent(j); a >= 0; a = model.parent(a)) {
+      const auto ak = static_cast<std::size_t>(a);
+      const Motion<S>& s = md.S0[ak];
+      const S m = -md.Dinv[ak] * hsum(fmadd(load3z(s.w.data()), fn, mul(load3(s.v.data()), ff)));
+      M(off + j, off + a) = m;
+      const V bm = bcast(m);
+      fn = fmadd(load3z(md.U[ak].n.data()), bm, fn);
+      ff = fmadd(load3(md.U[ak].f.data()), bm, ff);
+    }
+    Force<S> f;
+    store4(f.n.data(), fn);
+    store3(f.f.data(), ff);
+    root_force(j, f);
+  }
+}
+}  // namespace simd
+#endif
+
+/// The transforms and pass 1 (after joint_sincos): the AVX2 kernel when it applies (`Simd` false: never, for the
+/// tests), else update_transform and the scalar pass.
+template <bool Simd, class S, class T, class Q, class Buffers>
+void minv_first(const Model<S, T>& model, Data<S, T>& data, Buffers& md, const Eigen::MatrixBase<Q>& q,
+                ArticulatedInertia<S>* root_IA) {
+#if SPATIAL_SIMD_AVX2
+  if constexpr (Simd && simd_candidate<S, T>()) {
+    if (simd_applies(model)) return simd::minv_articulated(model, data, md, root_IA);
+  }
+#endif
+  for_each_body(model, [&](auto I) { update_transform<true>(model, data, I, q); });
+  minv_articulated(model, data, md, root_IA);
+}
+
+/// Pass 2: the AVX2 kernel for double and float (it needs no particular joint type), else the scalar pass.
+template <bool Simd, class S, class T, class Buffers, class RootForce>
+void minv_second(const Model<S, T>& model, Buffers& md, int off, RootForce&& root_force) {
+#if SPATIAL_SIMD_AVX2
+  if constexpr (Simd && (std::is_same_v<S, double> || std::is_same_v<S, float>)) {
+    return simd::minv_columns(model, md, off, root_force);
+  }
+#endif
+  minv_columns(model, md, off, root_force);
+}
+
+/// The inverse of a symmetric positive definite 6 × 6 matrix through its Cholesky factor L (A⁻¹ = L⁻ᵀ L⁻¹), in
+/// fixed-size loops: the floating root's D₀⁻¹ once per call (Eigen's LLT solve against the identity took ~4 800
+/// instructions under clang, mostly in its general triangular solver; this ~600). A matrix that is not positive
+/// definite gives non-finite entries.
+template <class S>
+Matrix6<S> spd_inverse(const Matrix6<S>& A) {
+  using std::sqrt;
+  S L[6][6] = {}, W[6][6] = {};  // L, and W = L⁻¹ (both lower triangular)
+  for (int j = 0; j < 6; ++j) {
+    S d = A(j, j);
+    for (int k = 0; k < j; ++k) d -= L[j][k] * L[j][k];
+    L[j][j] = sqrt(d);
+    const S inv = S(1) / L[j][j];
+    for (int i = j + 1; i < 6; ++i) {
+      S x = A(i, j);
+      for (int k = 0; k < j; ++k) x -= L[i][k] * L[j][k];
+      L[i][j] = x * inv;
+    }
+  }
+  for (int j = 0; j < 6; ++j) {
+    W[j][j] = S(1) / L[j][j];
+    for (int i = j + 1; i < 6; ++i) {
+      S x = S(0);
+      for (int k = j; k < i; ++k) x -= L[i][k] * W[k][j];
+      W[i][j] = x / L[i][i];
+    }
+  }
+  Matrix6<S> out;
+  for (int c = 0; c < 6; ++c)
+    for (int r = c; r < 6; ++r) {
+      S x = S(0);
+      for (int k = r; k < 6; ++k) x += W[k][r] * W[k][c];
+      out(r, c) = x;
+      out(c, r) = x;
+    }
+  return out;
+}
+
 /// Pass 3's inner loop over the columns c ≥ r: m = col[c] − u · ap(:, c), col[c] = m, a(:, c) = ap(:, c) + s m.
 /// The columns are independent of each other, so they go four at a time (Eigen's packets: one AVX2 operation per
 /// line, or two SSE2 or NEON ones), in blocks that end at nv and begin at or below r. The
@@ -233,6 +446,56 @@ struct FloatingMinvData : detail::MinvBuffers<S, T, FloatingModel<S, T>::NV> {
   typename Base::Block A0;  ///< the root's accelerations for the unit torques
 };
 
+namespace detail {
+/// inverse_inertia's three passes; `Simd` false keeps every pass on the scalar path (the tests compare both).
+template <bool Simd, class S, class T, class Q>
+const typename MinvData<S, T>::Matrix& inverse_inertia_impl(const Model<S, T>& model, Data<S, T>& data,
+                                                            MinvData<S, T>& md, const Eigen::MatrixBase<Q>& q) {
+  joint_sincos(model, data, q);
+  // Entries (j, i), j > i, where i is not an ancestor of j get no pass-2 term: start them from zero.
+  md.Minv.template triangularView<Eigen::StrictlyLower>().setZero();
+  minv_first<Simd>(model, data, md, q, static_cast<ArticulatedInertia<S>*>(nullptr));
+  minv_second<Simd>(model, md, 0, [](int, const Force<S>&) {});
+  minv_rows(model, md, 0, static_cast<const typename MinvData<S, T>::Block*>(nullptr));
+  minv_symmetrize(md.Minv);
+  return md.Minv;
+}
+
+template <bool Simd, class S, class T, class Q>
+const typename FloatingMinvData<S, T>::Matrix& inverse_inertia_impl(const FloatingModel<S, T>& model,
+                                                                    FloatingData<S, T>& data,
+                                                                    FloatingMinvData<S, T>& md,
+                                                                    const Eigen::MatrixBase<Q>& q) {
+  const auto& tree = model.tree();
+  auto& td = data.tree;
+  const auto qj = joint_block<FloatingModel<S, T>::NJ>(q, 7, model.njoints());
+  data.X0 = root_transform<S>(q);
+  joint_sincos(tree, td, qj);
+  auto& M = md.Minv;
+  M.template triangularView<Eigen::StrictlyLower>().setZero();
+  // Pass 1, and the root's articulated inertia D₀ = Iᴬ₀ (angular first), inverted through its Cholesky factor.
+  ArticulatedInertia<S> IA0(model.root_inertia());
+  minv_first<Simd>(tree, td, md, qj, &IA0);
+  // v's order is linear first: D₀ with its blocks swapped, [C Bᵀ; B A], and its inverse is H⁻¹'s 6 × 6 corner.
+  Matrix6<S> D0;
+  D0 << IA0.C, IA0.B.transpose(), IA0.B, IA0.A;
+  const Matrix6<S> D0inv = spd_inverse(D0);
+  M.template topLeftCorner<6, 6>() = D0inv;
+  // Pass 2: tree columns, then the root's rows for them, −D₀⁻¹ f (f linear first).
+  minv_second<Simd>(tree, md, 6, [&](int j, const Force<S>& f) {
+    Vector6<S> fl;
+    fl << f.f, f.n;
+    const Vector6<S> x = -(D0inv * fl);
+    for (int r = 0; r < 6; ++r) M(6 + j, r) = x[r];
+  });
+  // Pass 3: the root's accelerations are its rows, i.e. its columns of the lower triangle.
+  for (int r = 0; r < 6; ++r) md.A0.row(r) = M.col((r + 3) % 6).transpose();
+  minv_rows(tree, md, 6, &md.A0);
+  minv_symmetrize(M);
+  return M;
+}
+}  // namespace detail
+
 /// H⁻¹(q) into `md.Minv` (n × n, symmetric, both triangles written on every call) without forming H; see the file
 /// comment. Uses `data` for the transforms (`data.X_base` is left as `forward_kinematics` leaves it). No
 /// allocation; a joint whose subtree has no inertia gives non-finite entries (H is singular). Returns `md.Minv`.
@@ -240,15 +503,7 @@ template <class S, class T, class Q>
 const typename MinvData<S, T>::Matrix& inverse_inertia(const Model<S, T>& model, Data<S, T>& data,
                                                        MinvData<S, T>& md, const Eigen::MatrixBase<Q>& q) {
   detail::check_sizes(model, "inverse_inertia", "q", q);
-  detail::joint_sincos(model, data, q);
-  for_each_body(model, [&](auto I) { detail::update_transform<true>(model, data, I, q); });
-  // Entries (j, i), j > i, where i is not an ancestor of j get no pass-2 term: start them from zero.
-  md.Minv.template triangularView<Eigen::StrictlyLower>().setZero();
-  detail::minv_articulated(model, data, md, static_cast<ArticulatedInertia<S>*>(nullptr));
-  detail::minv_columns(model, md, 0, [](int, const Force<S>&) {});
-  detail::minv_rows(model, md, 0, static_cast<const typename MinvData<S, T>::Block*>(nullptr));
-  detail::minv_symmetrize(md.Minv);
-  return md.Minv;
+  return detail::inverse_inertia_impl<true>(model, data, md, q);
 }
 
 /// The floating-base version: nv × nv, rows and columns ordered as v (see the file comment).
@@ -257,36 +512,7 @@ const typename FloatingMinvData<S, T>::Matrix& inverse_inertia(const FloatingMod
                                                                FloatingData<S, T>& data, FloatingMinvData<S, T>& md,
                                                                const Eigen::MatrixBase<Q>& q) {
   detail::check_q(model, q, "inverse_inertia");
-  const auto& tree = model.tree();
-  auto& td = data.tree;
-  const auto qj = detail::joint_block<FloatingModel<S, T>::NJ>(q, 7, model.njoints());
-  data.X0 = detail::root_transform<S>(q);
-  detail::joint_sincos(tree, td, qj);
-  for_each_body(tree, [&](auto I) { detail::update_transform<true>(tree, td, I, qj); });
-  auto& M = md.Minv;
-  M.template triangularView<Eigen::StrictlyLower>().setZero();
-  // Pass 1, and the root's articulated inertia D₀ = Iᴬ₀ (angular first), inverted through its Cholesky factor.
-  ArticulatedInertia<S> IA0(model.root_inertia());
-  detail::minv_articulated(tree, td, md, &IA0);
-  Matrix6<S> D0;
-  D0 << IA0.A, IA0.B, IA0.B.transpose(), IA0.C;
-  const Eigen::LLT<Matrix6<S>> llt(D0);
-  const Matrix6<S> D0inv = llt.solve(Matrix6<S>::Identity());
-  // v's order is linear first: tangent index c ↔ motion row (c + 3) % 6.
-  for (int r = 0; r < 6; ++r)
-    for (int c = 0; c < 6; ++c) M(r, c) = D0inv((r + 3) % 6, (c + 3) % 6);
-  // Pass 2: tree columns, then the root's rows for them, −D₀⁻¹ f.
-  detail::minv_columns(tree, md, 6, [&](int j, const Force<S>& f) {
-    Vector6<S> fx;
-    fx << f.n, f.f;
-    const Vector6<S> x = -(D0inv * fx);
-    for (int r = 0; r < 6; ++r) M(6 + j, r) = x((r + 3) % 6);
-  });
-  // Pass 3: the root's accelerations are its rows, i.e. its columns of the lower triangle.
-  for (int r = 0; r < 6; ++r) md.A0.row(r) = M.col((r + 3) % 6).transpose();
-  detail::minv_rows(tree, md, 6, &md.A0);
-  detail::minv_symmetrize(M);
-  return M;
+  return detail::inverse_inertia_impl<true>(model, data, md, q);
 }
 
 }  // namespace spatial
