@@ -113,8 +113,8 @@ void minv_columns(const Model<S, T>& model, Buffers& md, int off, RootForce&& ro
 #if SPATIAL_SIMD_AVX2
 namespace simd {
 /// minv_articulated's AVX2 path (double or float, revolute joints about coordinate axes: `simd_applies`), which also
-/// composes the transforms: ⁱX_λ from the joint sines and cosines and ⁱX_0 = ⁱX_λ ᵏX_0 (into data.X_up,
-/// data.X_base, data.S_base, as forward_kinematics' kernel leaves them), then each body's inertia moved to base
+/// composes the transforms (base_transform: data.X_up, data.X_base, data.S_base, as forward_kinematics' kernel
+/// leaves them), then each body's inertia moved to base
 /// coordinates and the articulated inertias [A B; Bᵀ C] accumulated by columns, one register per column. The
 /// results (md.S0, md.U, md.Dinv and *root_IA) agree with the scalar pass to rounding; md.IA is not written.
 template <class S, class T, class Buffers>
@@ -137,25 +137,10 @@ void minv_articulated(const Model<S, T>& model, Data<S, T>& data, Buffers& md, A
   auto forward = [&](auto I, auto KC) SPATIAL_LAMBDA_INLINE {
     const int i = I;
     const auto p = parent_of(model, I);
-    constexpr int K = decltype(KC)::value;
     const auto k = static_cast<std::size_t>(i);
     Body& B = b[i];
-    V ucol[3], urow[3], ur;
-    joint_transform<K>(model, data, i, ucol, urow, ur);
-    if (p >= 0) {
-      const Body& P = b[p];
-      for (int c = 0; c < 3; ++c) B.col[c] = comb(ucol[0], ucol[1], ucol[2], P.col[c]);
-      B.r = add(P.r, comb(P.row[0], P.row[1], P.row[2], ur));
-      transpose(B.col[0], B.col[1], B.col[2], B.row[0], B.row[1], B.row[2]);
-    } else {
-      for (int c = 0; c < 3; ++c) B.col[c] = ucol[c], B.row[c] = urow[c];
-      B.r = ur;
-    }
-    store_transform(data.X_base[k], B.col[0], B.col[1], B.col[2], B.r);
-    B.sw = B.row[K];  // S⁰ = [Eᵀ e_K; r × Eᵀ e_K]
-    B.sv = cross(B.r, B.sw);
-    store4(data.S_base[k].w.data(), B.sw);
-    store3(data.S_base[k].v.data(), B.sv);
+    LocalTransform<S> up;
+    base_transform<decltype(KC)::value>(model, data, i, p, b, up, B, B.sw, B.sv);
     store4(md.S0[k].w.data(), B.sw);
     store3(md.S0[k].v.data(), B.sv);
     // Iᵢ in base coordinates, ⁱX_0ᵀ Iᵢ ⁱX_0 (Inertia::transformed_inverse): h′ = Eᵀ h, Ī′ = Eᵀ Ī E,

@@ -1,9 +1,10 @@
 #pragma once
 /// \file simd.hpp
 /// AVX2 kernels for RNEA, CRBA (also without H: the columns of A_G, centroidal.hpp), ABA, forward kinematics and the
-/// world Jacobian columns, in double and float, on compile-time trees (unrolled per body) and on run-time trees (a
-/// loop that switches once per body on the joint's axis; per-body records in `Data::work`; the same operations in
-/// the same order, so the same results bit for bit). The one-walk Jacobian kernel is in kinematics.hpp.
+/// world Jacobian columns (and, in minv.hpp on the same helpers, passes 1 and 2 of H⁻¹), in double and float, on
+/// compile-time trees (unrolled per body) and on run-time trees (a loop that switches once per body on the joint's
+/// axis; per-body records in `Data::work`; the same operations in the same order, so the same results bit for bit).
+/// The one-walk Jacobian kernel is in kinematics.hpp.
 ///
 /// The scalar algorithms (algorithms.hpp) spend about one instruction per flop on 3-vector arithmetic. Here every
 /// 3-vector lives in one register (lanes x, y, z and a spare fourth lane: four doubles in 256 bits, four floats in
@@ -298,6 +299,38 @@ SPATIAL_INLINE void joint_transform(const M& model, D& data, int i, V col[3], V 
   store_transform(data.X_up[static_cast<std::size_t>(i)], col[0], col[1], col[2], r);
   transpose(col[0], col[1], col[2], row[0], row[1], row[2]);
 }
+
+/// The first pass shared by CRBA, forward kinematics and H⁻¹ (minv.hpp): ⁱX_λ of body i (joint_transform, into
+/// `data.X_up[i]` and `up`), ⁱX_0 = ⁱX_λ ᵏX_0 from the parent's record b[p] (p < 0, a root: ⁱX_0 = ⁱX_λ) into
+/// `B` = b[i] (col, row, r) and `data.X_base[i]`, and the joint's motion subspace in base coordinates,
+/// S⁰ = X⁻¹ [e_K; 0] = [Eᵀ e_K; r × Eᵀ e_K] (Eᵀ e_K: row K of E), into `sw`, `sv` and `data.S_base[i]`.
+/// Rec: a kernel's per-body record with members `Vec<S> col[3], row[3], r`; p as parent_of gives it (a constant on
+/// a compile-time tree).
+template <class S>
+struct LocalTransform {
+  Vec<S> col[3], row[3], r;  // ⁱX_λ: columns and rows of E, r
+};
+template <int K, class M, class D, class P, class Rec, class S>
+SPATIAL_INLINE void base_transform(const M& model, D& data, int i, P p, const Rec* b, LocalTransform<S>& up, Rec& B,
+                                   Vec<S>& sw, Vec<S>& sv) {
+  const auto k = static_cast<std::size_t>(i);
+  joint_transform<K>(model, data, i, up.col, up.row, up.r);
+  if (p >= 0) {
+    // E = E_up E_λ (column by column), r = r_λ + E_λᵀ r_up.
+    const Rec& Pa = b[p];
+    for (int c = 0; c < 3; ++c) B.col[c] = comb(up.col[0], up.col[1], up.col[2], Pa.col[c]);
+    B.r = add(Pa.r, comb(Pa.row[0], Pa.row[1], Pa.row[2], up.r));
+    transpose(B.col[0], B.col[1], B.col[2], B.row[0], B.row[1], B.row[2]);
+  } else {
+    for (int c = 0; c < 3; ++c) B.col[c] = up.col[c], B.row[c] = up.row[c];
+    B.r = up.r;
+  }
+  store_transform(data.X_base[k], B.col[0], B.col[1], B.col[2], B.r);
+  sw = B.row[K];
+  sv = cross(B.r, sw);
+  store4(data.S_base[k].w.data(), sw);
+  store3(data.S_base[k].v.data(), sv);
+}
 /// X m = [E ω; E (v − r × ω)], E by columns.
 template <class V>
 SPATIAL_INLINE void apply_motion(const V col[3], V r, V mw, V mv, V& ow, V& ov) {
@@ -558,25 +591,10 @@ void forward_kinematics(const Model<S, T>& model, Data<S, T>& data) {
   if constexpr (Static) keep_in_memory(b);
   else b = records<Body>(data, model.size());
   auto forward = [&](auto I, auto KC) SPATIAL_LAMBDA_INLINE {
-    const int i = I;
     const auto p = parent_of(model, I);
-    constexpr int K = decltype(KC)::value;
-    const auto k = static_cast<std::size_t>(i);
-    Body& B = b[i];
-    V ucol[3], urow[3], ur;
-    joint_transform<K>(model, data, i, ucol, urow, ur);
-    if (p >= 0) {
-      const Body& P = b[p];
-      for (int c = 0; c < 3; ++c) B.col[c] = comb(ucol[0], ucol[1], ucol[2], P.col[c]);
-      B.r = add(P.r, comb(P.row[0], P.row[1], P.row[2], ur));
-      transpose(B.col[0], B.col[1], B.col[2], B.row[0], B.row[1], B.row[2]);
-    } else {
-      for (int c = 0; c < 3; ++c) B.col[c] = ucol[c], B.row[c] = urow[c];
-      B.r = ur;
-    }
-    store_transform(data.X_base[k], B.col[0], B.col[1], B.col[2], B.r);
-    store4(data.S_base[k].w.data(), B.row[K]);
-    store3(data.S_base[k].v.data(), cross(B.r, B.row[K]));
+    LocalTransform<S> up;
+    V sw, sv;
+    base_transform<decltype(KC)::value>(model, data, I, p, b, up, b[int(I)], sw, sv);
   };
   bodies(model, forward);
 }
@@ -615,11 +633,11 @@ void crba(const Model<S, T>& model, Data<S, T>& data, Sink& sink) {
   constexpr bool Out = std::decay_t<Sink>::active;
   constexpr bool Entries = std::decay_t<Sink>::entries;
   struct Body {
-    V ucol[3], urow[3], ur;  // ⁱX_λ: columns and rows of E, r
-    V col[3], row[3], r;     // ⁱX_0
-    V sw, sv;                // Sᵢ in base coordinates
-    V ih, ic[3];             // composite inertia: h and the columns of Ī
-    S im;               // and m
+    LocalTransform<S> up;  // ⁱX_λ
+    V col[3], row[3], r;   // ⁱX_0
+    V sw, sv;              // Sᵢ in base coordinates
+    V ih, ic[3];           // composite inertia: h and the columns of Ī
+    S im;                  // and m
   };
   Body local[NB];
   Body* b = local;
@@ -629,26 +647,8 @@ void crba(const Model<S, T>& model, Data<S, T>& data, Sink& sink) {
   auto forward = [&](auto I, auto KC) SPATIAL_LAMBDA_INLINE {
     const int i = I;
     const auto p = parent_of(model, I);
-    constexpr int K = decltype(KC)::value;
-    const auto k = static_cast<std::size_t>(i);
     Body& B = b[i];
-    joint_transform<K>(model, data, i, B.ucol, B.urow, B.ur);
-    // ⁱX_0 = ⁱX_λ ᵏX_0: E = E_up E_λ (column by column), r = r_λ + E_λᵀ r_up.
-    if (p >= 0) {
-      const Body& P = b[p];
-      for (int c = 0; c < 3; ++c) B.col[c] = comb(B.ucol[0], B.ucol[1], B.ucol[2], P.col[c]);
-      B.r = add(P.r, comb(P.row[0], P.row[1], P.row[2], B.ur));
-      transpose(B.col[0], B.col[1], B.col[2], B.row[0], B.row[1], B.row[2]);
-    } else {
-      for (int c = 0; c < 3; ++c) B.col[c] = B.ucol[c], B.row[c] = B.urow[c];
-      B.r = B.ur;
-    }
-    store_transform(data.X_base[k], B.col[0], B.col[1], B.col[2], B.r);
-    // S⁰ = X⁻¹ [e_K; 0] = [Eᵀ e_K; r × Eᵀ e_K] (Eᵀ e_K: row K of E).
-    B.sw = B.row[K];
-    B.sv = cross(B.r, B.sw);
-    store4(data.S_base[k].w.data(), B.sw);
-    store3(data.S_base[k].v.data(), B.sv);
+    base_transform<decltype(KC)::value>(model, data, i, p, b, B.up, B, B.sw, B.sv);
     const Inertia<S>& In = model.inertia(i);
     B.im = In.m;
     B.ih = load3z(In.h.data());
@@ -672,21 +672,21 @@ void crba(const Model<S, T>& model, Data<S, T>& data, Sink& sink) {
     if (p >= 0) {
       // ⁱX_λᵀ Iᶜ ⁱX_λ (Inertia::transformed_inverse): h′ = Eᵀ h, Ī′ = Eᵀ Ī E, g = h′ + (m/2) r,
       // Ī = Ī′ − (r gᵀ + g rᵀ) + 2 (g·r) 1, h = h′ + m r.
-      const V hp = comb(B.urow[0], B.urow[1], B.urow[2], B.ih);
-      const V g = fmadd(bcast(S(0.5) * B.im), B.ur, hp);
-      const V d = bcast(S(2) * hsum(mul(g, B.ur)));
+      const V hp = comb(B.up.row[0], B.up.row[1], B.up.row[2], B.ih);
+      const V g = fmadd(bcast(S(0.5) * B.im), B.up.r, hp);
+      const V d = bcast(S(2) * hsum(mul(g, B.up.r)));
       Body& P = b[p];
       auto column = [&](auto C) SPATIAL_LAMBDA_INLINE {
         constexpr int c = decltype(C)::value;
-        const V ie = comb(B.ic[0], B.ic[1], B.ic[2], B.ucol[c]);  // column c of Ī E
-        V col = comb(B.urow[0], B.urow[1], B.urow[2], ie);         // of Eᵀ Ī E
-        col = fnmadd(B.ur, lane<c>(g), fnmadd(g, lane<c>(B.ur), col));
+        const V ie = comb(B.ic[0], B.ic[1], B.ic[2], B.up.col[c]);  // column c of Ī E
+        V col = comb(B.up.row[0], B.up.row[1], B.up.row[2], ie);         // of Eᵀ Ī E
+        col = fnmadd(B.up.r, lane<c>(g), fnmadd(g, lane<c>(B.up.r), col));
         P.ic[c] = add(P.ic[c], add(col, only<c>(d)));
       };
       column(std::integral_constant<int, 0>{});
       column(std::integral_constant<int, 1>{});
       column(std::integral_constant<int, 2>{});
-      P.ih = add(P.ih, fmadd(bcast(B.im), B.ur, hp));
+      P.ih = add(P.ih, fmadd(bcast(B.im), B.up.r, hp));
       P.im += B.im;
     }
   };

@@ -47,8 +47,9 @@ def signature_calls(m, frame):
         "com_jacobian": (lambda q, v, x, q1: spatial.com_jacobian(m, q), [("q", 0, nq)]),
         "centroidal_momentum_matrix": (lambda q, v, x, q1: spatial.centroidal_momentum_matrix(m, q), [("q", 0, nq)]),
         "centroidal_momentum": (lambda q, v, x, q1: spatial.centroidal_momentum(m, q, v), [("q", 0, nq), ("v", 1, nv)]),
-        "centroidal_momentum_time_variation": (lambda q, v, x, q1: spatial.centroidal_momentum_time_variation(m, q, v, x),
-                                               [("q", 0, nq), ("v", 1, nv), ("a", 2, nv)]),
+        "centroidal_momentum_time_variation": (
+            lambda q, v, x, q1: spatial.centroidal_momentum_time_variation(m, q, v, x),
+            [("q", 0, nq), ("v", 1, nv), ("a", 2, nv)]),
         "integrate": (lambda q, v, x, q1: spatial.integrate(m, q, v), [("q", 0, nq), ("v", 1, nv)]),
         "difference": (lambda q, v, x, q1: spatial.difference(m, q, q1), [("q0", 0, nq), ("q1", 3, nq)]),
         "normalize": (lambda q, v, x, q1: spatial.normalize(m, q), [("q", 0, nq)]),
