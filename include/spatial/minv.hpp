@@ -143,21 +143,13 @@ void minv_articulated(const Model<S, T>& model, Data<S, T>& data, Buffers& md, A
     base_transform<decltype(KC)::value>(model, data, i, p, b, up, B, B.sw, B.sv);
     store4(md.S0[k].w.data(), B.sw);
     store3(md.S0[k].v.data(), B.sv);
-    // Iᵢ in base coordinates, ⁱX_0ᵀ Iᵢ ⁱX_0 (Inertia::transformed_inverse): h′ = Eᵀ h, Ī′ = Eᵀ Ī E,
-    // g = h′ + (m/2) r, Ī = Ī′ − (r gᵀ + g rᵀ) + 2 (g·r) 1, h = h′ + m r; as an articulated inertia A = Ī,
-    // B = h× (column c: h × e_c), C = m 1.
+    // Iᵢ in base coordinates, ⁱX_0ᵀ Iᵢ ⁱX_0, as an articulated inertia: A = Ī, B = h× (column c: h × e_c), C = m 1.
     const Inertia<S>& In = model.inertia(i);
-    const V ic0 = load3z(In.I.data()), ic1 = load3z(In.I.data() + 3), ic2 = load3(In.I.data() + 6);
-    const V hp = comb(B.row[0], B.row[1], B.row[2], load3z(In.h.data()));
-    const V g = fmadd(bcast(S(0.5) * In.m), B.r, hp);
-    const V d = bcast(S(2) * hsum(mul(g, B.r)));
-    const V h = fmadd(bcast(In.m), B.r, hp);
+    const V ic[3] = {load3z(In.I.data()), load3z(In.I.data() + 3), load3(In.I.data() + 6)};
+    V h;
+    transformed_inertia<S>(B.col, B.row, B.r, In.m, load3z(In.h.data()), ic, h, B.A);
     auto column = [&](auto CC) SPATIAL_LAMBDA_INLINE {
       constexpr int c = decltype(CC)::value;
-      const V ie = comb(ic0, ic1, ic2, B.col[c]);             // column c of Ī E
-      V col = comb(B.row[0], B.row[1], B.row[2], ie);         // of Eᵀ Ī E
-      col = fnmadd(B.r, lane<c>(g), fnmadd(g, lane<c>(B.r), col));
-      B.A[c] = add(col, only<c>(d));
       B.B[c] = mul(swap_other<c>(h), sign<c, V>());
       B.C[c] = axis<c>(In.m);
     };

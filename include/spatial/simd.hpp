@@ -331,6 +331,29 @@ SPATIAL_INLINE void base_transform(const M& model, D& data, int i, P p, const Re
   store4(data.S_base[k].w.data(), sw);
   store3(data.S_base[k].v.data(), sv);
 }
+
+/// A rigid-body inertia (m, h, Ī by columns) moved by Xᵀ I X, X = (E, r) given by E's columns and rows
+/// (Inertia::transformed_inverse): h′ = Eᵀ h, Ī′ = Eᵀ Ī E, g = h′ + (m/2) r, Ī = Ī′ − (r gᵀ + g rᵀ) + 2 (g·r) 1,
+/// h = h′ + m r. CRBA's composite-inertia step (by ⁱX_λ) and H⁻¹'s base-frame inertias (by ⁱX_0, minv.hpp).
+template <class S>
+SPATIAL_INLINE void transformed_inertia(const Vec<S> (&col)[3], const Vec<S> (&row)[3], Vec<S> r, S m, Vec<S> h,
+                                        const Vec<S> (&ic)[3], Vec<S>& h_out, Vec<S> (&ic_out)[3]) {
+  using V = Vec<S>;
+  const V hp = comb(row[0], row[1], row[2], h);
+  const V g = fmadd(bcast(S(0.5) * m), r, hp);
+  const V d = bcast(S(2) * hsum(mul(g, r)));
+  auto column = [&](auto C) SPATIAL_LAMBDA_INLINE {
+    constexpr int c = decltype(C)::value;
+    const V ie = comb(ic[0], ic[1], ic[2], col[c]);  // column c of Ī E
+    V x = comb(row[0], row[1], row[2], ie);           // of Eᵀ Ī E
+    x = fnmadd(r, lane<c>(g), fnmadd(g, lane<c>(r), x));
+    ic_out[c] = add(x, only<c>(d));
+  };
+  column(std::integral_constant<int, 0>{});
+  column(std::integral_constant<int, 1>{});
+  column(std::integral_constant<int, 2>{});
+  h_out = fmadd(bcast(m), r, hp);
+}
 /// X m = [E ω; E (v − r × ω)], E by columns.
 template <class V>
 SPATIAL_INLINE void apply_motion(const V col[3], V r, V mw, V mv, V& ow, V& ov) {
@@ -670,23 +693,12 @@ void crba(const Model<S, T>& model, Data<S, T>& data, Sink& sink) {
     store4(out.I.data() + 3, B.ic[1]);
     store3(out.I.data() + 6, B.ic[2]);
     if (p >= 0) {
-      // ⁱX_λᵀ Iᶜ ⁱX_λ (Inertia::transformed_inverse): h′ = Eᵀ h, Ī′ = Eᵀ Ī E, g = h′ + (m/2) r,
-      // Ī = Ī′ − (r gᵀ + g rᵀ) + 2 (g·r) 1, h = h′ + m r.
-      const V hp = comb(B.up.row[0], B.up.row[1], B.up.row[2], B.ih);
-      const V g = fmadd(bcast(S(0.5) * B.im), B.up.r, hp);
-      const V d = bcast(S(2) * hsum(mul(g, B.up.r)));
+      // ⁱX_λᵀ Iᶜ ⁱX_λ, added into the parent's.
+      V h, ic[3];
+      transformed_inertia<S>(B.up.col, B.up.row, B.up.r, B.im, B.ih, B.ic, h, ic);
       Body& P = b[p];
-      auto column = [&](auto C) SPATIAL_LAMBDA_INLINE {
-        constexpr int c = decltype(C)::value;
-        const V ie = comb(B.ic[0], B.ic[1], B.ic[2], B.up.col[c]);  // column c of Ī E
-        V col = comb(B.up.row[0], B.up.row[1], B.up.row[2], ie);         // of Eᵀ Ī E
-        col = fnmadd(B.up.r, lane<c>(g), fnmadd(g, lane<c>(B.up.r), col));
-        P.ic[c] = add(P.ic[c], add(col, only<c>(d)));
-      };
-      column(std::integral_constant<int, 0>{});
-      column(std::integral_constant<int, 1>{});
-      column(std::integral_constant<int, 2>{});
-      P.ih = add(P.ih, fmadd(bcast(B.im), B.up.r, hp));
+      for (int c = 0; c < 3; ++c) P.ic[c] = add(P.ic[c], ic[c]);
+      P.ih = add(P.ih, h);
       P.im += B.im;
     }
   };
