@@ -24,10 +24,14 @@
 // every HOAP-3 model and both random shapes; 0 in the sanitizer build, where each kernel is one large unrolled
 // instantiation per tree and per term combination compiled unoptimised and instrumented (the three heaviest files
 // took ~9 CPU minutes there): the fixed-base kernels run on hoap3_stance_right, Rev9 (two roots, branches, every
-// axis) and RevChain24 (deeper than any HOAP-3 branch), the floating-base ones on hoap3_floating and Rev9, and every
-// combination of RNEA's terms (gravity, velocity, acceleration) only on Rev9 (kEveryTermCombination): the terms
-// change the arithmetic, not which memory the kernels touch. The other HOAP-3 models run the same kernels on smaller
-// and shallower trees.
+// axis) and RevChain24 (deeper than any HOAP-3 branch), the floating-base ones on hoap3_floating and Rev9. The other
+// HOAP-3 models run the same kernels on smaller and shallower trees.
+//
+// Every combination of RNEA's terms (gravity, velocity, acceleration) and of ABA's runs on Rev9 in both builds, and
+// in the release build on the reference model hoap3_stance_right too (kEveryTermCombination); every other tree runs
+// all terms at once. A term is an `if constexpr` branch of the kernel's per-body step, the same code on every tree,
+// while each combination on each tree is one more large unrolled instantiation of it, which takes no path that Rev9
+// and stance_right (whose tree type hoap3_stance_left shares) do not take.
 #define SPATIAL_SIMD_TEST_ALL_TREES SPATIAL_TEST_COMPILE_TIME_TREES
 
 #if !SPATIAL_SIMD_AVX2
@@ -50,13 +54,14 @@ auto make_chain(std::index_sequence<I...>) -> Tree<Parents<(static_cast<int>(I) 
 // A chain deeper than any branch of the reference models (every H entry of it is an ancestor pair).
 using RevChain24 = decltype(make_chain(std::make_index_sequence<24>{}));
 
-/// Whether the kernel tests run every combination of RNEA's terms on TreeT in scalar S, or only all of them at once
-/// (see SPATIAL_SIMD_TEST_ALL_TREES). In float, only on Rev9: float runs the same kernels over the same memory
-/// layout, and each combination on a HOAP-3 model is another large unrolled instantiation (the float cases cost
-/// ~200 CPU-s of compilation with every combination on every tree).
+/// Whether the kernel tests run every combination of RNEA's (and ABA's) terms on TreeT in scalar S, or only all of
+/// them at once (see SPATIAL_SIMD_TEST_ALL_TREES): on Rev9 always, on hoap3_stance_right in double in the release
+/// build. float runs the same kernels over the same memory layout (four floats per 128-bit register).
 template <class TreeT, class S = double>
 inline constexpr bool kEveryTermCombination =
-    std::is_same_v<TreeT, Rev9> || (SPATIAL_SIMD_TEST_ALL_TREES && std::is_same_v<S, double>);
+    std::is_same_v<TreeT, Rev9> ||
+    (SPATIAL_SIMD_TEST_ALL_TREES && std::is_same_v<S, double> &&
+     std::is_same_v<TreeT, models::hoap3_stance_right::Tree>);
 
 static_assert(detail::simd_enabled<double, Rev9>());
 static_assert(detail::simd_enabled<double, models::hoap3_stance_right::Tree>());
