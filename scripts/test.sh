@@ -11,9 +11,9 @@
 #      sanitizers' stack traces): the unit, AVX2-kernel and stress tests (tests/CMakeLists.txt). clang++, not g++:
 #      the instrumented unoptimised tests compile in 712 CPU-s instead of 1605 (2026-12-02), and the suite is read by
 #      a second compiler (it refused a lambda capturing a structured binding, which C++17 forbids and g++ allows).
-#      Both builds compile the tests with SPATIAL_NO_FORCED_INLINE (tests/CMakeLists.txt says why): 2026-12-03, the
-#      the sanitizer build's compilations took 747 CPU-s (sum of Ninja's job times) instead of 1366 the day before,
-#      and the release build of spatial_test_programs 1103 s on two cores instead of ~1500.
+#      Both builds compile the tests with SPATIAL_NO_FORCED_INLINE (tests/CMakeLists.txt says why): the sanitizer
+#      build's jobs took 747 s in all instead of 1366 with forced inlining (`scripts/build_times.sh build-asan`,
+#      2026-12-03 against 2026-12-02), and this script's release stage ended at 1000 s instead of 1500.
 #   5. The URDF loader's fuzz target (scripts/fuzz.sh, clang + libFuzzer + ASan/UBSan, build-fuzz/) for 30 s on $JOBS
 #      processes (60 CPU-s with the default two: the minute of fuzzing it always had, in half the time).
 # Usage: scripts/test.sh [--quick]    --quick skips steps 3, 4 and 5.

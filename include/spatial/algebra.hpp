@@ -20,8 +20,8 @@
 /// Forces inlining of the small algebra operations: GCC otherwise keeps some out of line, and returning spatial
 /// vectors through memory from many small calls costs more than the arithmetic itself. SPATIAL_NO_FORCED_INLINE
 /// turns it off (here and for the AVX2 kernels' lambdas, SPATIAL_LAMBDA_INLINE): the same code, compiled faster
-/// unoptimised, where the forced inlining only makes every unrolled function larger (the sanitizer build of the
-/// tests defines it).
+/// unoptimised or at -O1, where the forced inlining only makes every unrolled function larger (the test programs
+/// define it).
 #if (defined(__GNUC__) || defined(__clang__)) && !defined(SPATIAL_NO_FORCED_INLINE)
 #define SPATIAL_INLINE __attribute__((always_inline)) inline
 #else
