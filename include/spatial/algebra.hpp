@@ -47,17 +47,17 @@ template <class S>
 using Matrix6 = Eigen::Matrix<S, 6, 6>;
 
 namespace detail {
-/// Whether Motion, Force and Transform build, copy and move their parts by assignment, element by element, rather
-/// than by Eigen's copy construction: so for scalars that are SIMD registers (batch.hpp's lanes) and other class
-/// types. GCC 12 copy-constructs and moves an Eigen vector of registers as a block of memory, through the
-/// general-purpose registers eight bytes at a time or `rep movs`; assigned, each element is one vector move. That
-/// took a batched RNEA on stance21 from 11 500 to 7 900 instructions per call of four lanes (AVX2, callgrind). For
-/// float and double the parts are copy-constructed as before (the same code; with assignments GCC's scalar CRBA on
-/// a compile-time tree ran 3 % more instructions).
+/// Whether Motion, Force, Transform and ArticulatedInertia build, copy and move their parts by assignment, element
+/// by element, rather than by Eigen's copy construction: so for scalars that are SIMD registers (batch.hpp's lanes)
+/// and other class types. GCC 12 copy-constructs and moves an Eigen vector of registers as a block of memory,
+/// through the general-purpose registers eight bytes at a time or `rep movs`; assigned, each element is one vector
+/// move. That took a batched RNEA on stance21 from 11 500 to 7 950 instructions per call of four lanes (AVX2,
+/// callgrind, bench/callgrind_batch.cpp). For float and double the parts are copy-constructed as before (the same
+/// code; with assignments GCC's scalar CRBA on a compile-time tree ran 3 % more instructions).
 template <class S>
 inline constexpr bool kAssignParts = !std::is_arithmetic_v<S>;
 
-// The data members of Motion, Force and Transform (their bases), with the copy of kAssignParts.
+// The data members of Motion, Force, Transform and ArticulatedInertia (their bases), with the copy of kAssignParts.
 template <class S, bool Assign = kAssignParts<S>>
 struct MotionParts {
   Vector3<S> w;  ///< angular part ω
@@ -133,6 +133,35 @@ struct TransformParts<S, true> {
   SPATIAL_INLINE TransformParts& operator=(const TransformParts& o) {
     E = o.E;
     r = o.r;
+    return *this;
+  }
+};
+template <class S, bool Assign = kAssignParts<S>>
+struct ArticulatedInertiaParts {
+  Matrix3<S> A, B, C;  ///< the blocks [A B; Bᵀ C] (see ArticulatedInertia)
+  ArticulatedInertiaParts() = default;
+  template <class X, class Y, class Z>  // any 3×3 expressions
+  SPATIAL_INLINE ArticulatedInertiaParts(const X& a, const Y& b, const Z& c) : A(a), B(b), C(c) {}
+};
+template <class S>
+struct ArticulatedInertiaParts<S, true> {
+  Matrix3<S> A, B, C;
+  ArticulatedInertiaParts() = default;
+  template <class X, class Y, class Z>
+  SPATIAL_INLINE ArticulatedInertiaParts(const X& a, const Y& b, const Z& c) {
+    A = a;
+    B = b;
+    C = c;
+  }
+  SPATIAL_INLINE ArticulatedInertiaParts(const ArticulatedInertiaParts& o) {
+    A = o.A;
+    B = o.B;
+    C = o.C;
+  }
+  SPATIAL_INLINE ArticulatedInertiaParts& operator=(const ArticulatedInertiaParts& o) {
+    A = o.A;
+    B = o.B;
+    C = o.C;
     return *this;
   }
 };
@@ -568,13 +597,16 @@ struct Inertia {
 /// A general symmetric 6×6 inertia (articulated-body inertia, RBDA §7.1), as the blocks [A B; Bᵀ C] with A = Aᵀ
 /// and C = Cᵀ: maps motion to force.
 template <class S>
-struct ArticulatedInertia {
+struct ArticulatedInertia : detail::ArticulatedInertiaParts<S> {
   using Scalar = S;
-  Matrix3<S> A, B, C;
+  using Parts = detail::ArticulatedInertiaParts<S>;
+  using Parts::A;
+  using Parts::B;
+  using Parts::C;
 
   ArticulatedInertia() = default;
-  SPATIAL_INLINE ArticulatedInertia(const Matrix3<S>& a, const Matrix3<S>& b, const Matrix3<S>& c) : A(a), B(b), C(c) {}
-  explicit ArticulatedInertia(const Inertia<S>& I) : A(I.I), B(skew(I.h)), C(I.m * Matrix3<S>::Identity()) {}
+  SPATIAL_INLINE ArticulatedInertia(const Matrix3<S>& a, const Matrix3<S>& b, const Matrix3<S>& c) : Parts(a, b, c) {}
+  explicit ArticulatedInertia(const Inertia<S>& I) : Parts(I.I, skew(I.h), I.m * Matrix3<S>::Identity()) {}
 
   SPATIAL_INLINE Force<S> operator*(const Motion<S>& v) const {
     using namespace detail;
