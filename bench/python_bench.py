@@ -363,6 +363,15 @@ def main():
                            ("spatial.aba", "spatial.aba(m, Q, V, T, threads={th})")):
             for th in (1, 0):
                 add(size, "spatial", call, th, measure(stmt.format(th=th), benv, **kw))
+        if size == sizes[0]:  # the terms of the dynamics (spatial.Dyn) on one thread: what leaving terms out saves
+            for call, stmt in (("spatial.rnea(m, Q, None, A, dyn=Dyn.QuasiStatic)",
+                                "spatial.rnea(m, Q, None, A, dyn=spatial.Dyn.QuasiStatic, threads=1)"),
+                               ("spatial.rnea(m, Q, None, None, dyn=Dyn.Static)",
+                                "spatial.rnea(m, Q, None, None, dyn=spatial.Dyn.Static, threads=1)"),
+                               ("spatial.gravity(m, Q)", "spatial.gravity(m, Q, threads=1)"),
+                               ("spatial.aba(m, Q, None, T, dyn=Dyn.Static)",
+                                "spatial.aba(m, Q, None, T, dyn=spatial.Dyn.Static, threads=1)")):
+                add(size, "spatial", call, 1, measure(stmt, benv, **kw))
         if size == sizes[0]:  # checks, on the smaller batch
             r1 = np.asarray(spatial.rnea(stance, Q, V, A, threads=1))
             r0 = np.asarray(spatial.rnea(stance, Q, V, A, threads=0))
@@ -515,7 +524,9 @@ def markdown(result, find_call, threads_all):
         refa = next((r for r in result["batch"] if r["states"] == size and r["call"] == "Python loop over pin.aba"),
                     None)
         for r in (r for r in result["batch"] if r["states"] == size):
-            base = refa if "aba" in r["call"] else ref
+            # a Dyn flag set or G alone computes less than the full algorithm: no "same algorithm" to compare with
+            partial = "dyn=" in r["call"] or "gravity" in r["call"]
+            base = None if partial else refa if "aba" in r["call"] else ref
             speedup = f"{base['ns_per_state_wall'] / r['ns_per_state_wall']:.3g}×" if base else "–"
             threads = f"all ({r['threads']})" if r["threads_argument"] == 0 else r["threads"]
             rows.append([fmt_states(size), f"`{r['call']}`", threads,

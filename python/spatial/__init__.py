@@ -29,6 +29,7 @@ from ._spatial import (  # noqa: F401  (re-exported)
     Contact6D,
     Contacts,
     Data,
+    Dyn,
     Model,
     ModelError,
     aba,
@@ -75,7 +76,7 @@ from ._spatial import (  # noqa: F401  (re-exported)
 from . import _spatial
 
 __all__ = [
-    "Data", "Model", "ModelError", "aba", "aba_derivatives", "bias", "center_of_mass", "centroidal_momentum",
+    "Data", "Dyn", "Model", "ModelError", "aba", "aba_derivatives", "bias", "center_of_mass", "centroidal_momentum",
     "centroidal_momentum_matrix", "centroidal_momentum_time_variation", "com_jacobian", "crba", "difference",
     "forward_dynamics", "frame_acceleration", "frame_classical_acceleration", "frame_jacobian",
     "frame_jacobian_time_variation", "frame_placement", "frame_velocity", "gravity", "hoap3_double_pendulum",

@@ -89,6 +89,9 @@ struct Call {
   ReferenceFrame reference = ReferenceFrame::LocalWorldAligned;
   double dt = 1.0;       ///< Integrate
   double height = 0.0;   ///< MultibodyZmp: the ground plane z = height
+  /// Rnea, Aba, ForwardDynamics: the terms computed (options.hpp's `Dyn` flags Gravity | Velocity | Acceleration;
+  /// Aba and ForwardDynamics ignore Acceleration). Anything but Full only on fixed-base models (the bindings check).
+  unsigned dyn = unsigned(Dyn::Full);
 };
 
 /// Per-thread buffers of one model kind (the library's Data and what the derivatives need).

@@ -13,6 +13,35 @@
 
 namespace spatial::python {
 
+/// f(std::integral_constant<Dyn, O>) for the flag set O = `dyn` restricted to `Mask` (one instantiation of f per
+/// set: the algorithms of options.hpp take the set at compile time, so that what a scene leaves out generates no
+/// code). `Floating`: only Full (the options are fixed-base only; the bindings refuse the others).
+template <unsigned Mask, bool Floating, class F>
+void with_dyn(unsigned dyn, F&& f) {
+  const unsigned d = dyn & Mask;
+  if constexpr (!Floating) {
+    if (d != (unsigned(Dyn::Full) & Mask)) {
+      switch (d) {
+        case 0u: return f(std::integral_constant<Dyn, Dyn::None>{});
+        case 1u: return f(std::integral_constant<Dyn, Dyn::Gravity>{});
+        case 2u: return f(std::integral_constant<Dyn, Dyn::Velocity>{});
+        default: break;
+      }
+      if constexpr ((Mask & 4u) != 0u) {
+        switch (d) {
+          case 3u: return f(std::integral_constant<Dyn, Dyn::Gravity | Dyn::Velocity>{});
+          case 4u: return f(std::integral_constant<Dyn, Dyn::Acceleration>{});
+          case 5u: return f(std::integral_constant<Dyn, Dyn::QuasiStatic>{});
+          case 6u: return f(std::integral_constant<Dyn, Dyn::NoGravity>{});
+          default: break;
+        }
+      }
+    }
+  }
+  (void)d;
+  f(std::integral_constant<Dyn, Dyn::Full>{});
+}
+
 template <class M>
 struct IsFloating : std::false_type {};
 template <class S, class T>
@@ -302,12 +331,20 @@ class Engine final : public ModelBase {
     auto& d = ws.data;
     const M& m = model_;
     if constexpr (O == Op::Rnea) {
-      if (c.in[3].p) {
-        load_fext(c.in[3], b, ws);
-        put_vector(c.out[0], b, rnea(m, d, q_at(c.in[0], b), v_at(c.in[1], b), v_at(c.in[2], b), ws.fext));
-      } else {
-        put_vector(c.out[0], b, rnea(m, d, q_at(c.in[0], b), v_at(c.in[1], b), v_at(c.in[2], b)));
-      }
+      const auto q = q_at(c.in[0], b);
+      const auto v = v_at(c.in[1], b);
+      const auto a = v_at(c.in[2], b);
+      if (c.in[3].p) load_fext(c.in[3], b, ws);
+      with_dyn<7u, kFloating>(c.dyn, [&](auto D) {
+        constexpr Dyn terms = decltype(D)::value;
+        if constexpr (terms == Dyn::Full) {
+          if (c.in[3].p) put_vector(c.out[0], b, rnea(m, d, q, v, a, ws.fext));
+          else put_vector(c.out[0], b, rnea(m, d, q, v, a));
+        } else {
+          if (c.in[3].p) put_vector(c.out[0], b, rnea<terms>(m, d, q, v, a, ws.fext));
+          else put_vector(c.out[0], b, rnea<terms>(m, d, q, v, a));
+        }
+      });
     } else if constexpr (O == Op::Gravity) {
       put_vector(c.out[0], b, gravity_torques(m, d, q_at(c.in[0], b)));
     } else if constexpr (O == Op::Bias) {
@@ -315,14 +352,29 @@ class Engine final : public ModelBase {
     } else if constexpr (O == Op::Crba) {
       put_matrix(c.out[0], b, crba(m, d, q_at(c.in[0], b)));
     } else if constexpr (O == Op::Aba) {
-      if (c.in[3].p) {
-        load_fext(c.in[3], b, ws);
-        put_vector(c.out[0], b, aba(m, d, q_at(c.in[0], b), v_at(c.in[1], b), v_at(c.in[2], b), ws.fext));
-      } else {
-        put_vector(c.out[0], b, aba(m, d, q_at(c.in[0], b), v_at(c.in[1], b), v_at(c.in[2], b)));
-      }
+      const auto q = q_at(c.in[0], b);
+      const auto v = v_at(c.in[1], b);
+      const auto tau = v_at(c.in[2], b);
+      if (c.in[3].p) load_fext(c.in[3], b, ws);
+      with_dyn<3u, kFloating>(c.dyn, [&](auto D) {
+        constexpr Dyn terms = decltype(D)::value;
+        if constexpr (terms == Dyn::Full) {
+          if (c.in[3].p) put_vector(c.out[0], b, aba(m, d, q, v, tau, ws.fext));
+          else put_vector(c.out[0], b, aba(m, d, q, v, tau));
+        } else {
+          if (c.in[3].p) put_vector(c.out[0], b, aba<terms>(m, d, q, v, tau, ws.fext));
+          else put_vector(c.out[0], b, aba<terms>(m, d, q, v, tau));
+        }
+      });
     } else if constexpr (O == Op::ForwardDynamics) {
-      put_vector(c.out[0], b, forward_dynamics_crba(m, d, q_at(c.in[0], b), v_at(c.in[1], b), v_at(c.in[2], b)));
+      const auto q = q_at(c.in[0], b);
+      const auto v = v_at(c.in[1], b);
+      const auto tau = v_at(c.in[2], b);
+      with_dyn<3u, kFloating>(c.dyn, [&](auto D) {
+        constexpr Dyn terms = decltype(D)::value;
+        if constexpr (terms == Dyn::Full) put_vector(c.out[0], b, forward_dynamics_crba(m, d, q, v, tau));
+        else put_vector(c.out[0], b, forward_dynamics_crba<terms>(m, d, q, v, tau));
+      });
     } else if constexpr (O == Op::KineticEnergy) {
       *c.out[0].at(b) = kinetic_energy(m, d, q_at(c.in[0], b), v_at(c.in[1], b));
     } else if constexpr (O == Op::PotentialEnergy) {

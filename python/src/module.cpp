@@ -195,28 +195,84 @@ NB_MODULE(_spatial, m) {
   // ---- algorithms ----------------------------------------------------------------------------------------------
   // Each: (model, arrays..., keywords) → fresh arrays. `fext` rows [fx fy fz nx ny nz] per body, body coordinates.
 #define SPATIAL_PY_KW "data"_a.none() = nb::none(), "threads"_a = 1, "check"_a = false
-  // RNEA and ABA: (q, v, a or tau[, fext]) -> (nv,).
-  const auto bind_dynamics = [&m](const char* fn, Op op, const char* third, const char* doc) {
-    m.def(fn,
-          [fn, op, third](const ModelBase& b, ArrayLike q, ArrayLike v, ArrayLike x, ArrayLike fext, PyData* data,
-                          int threads, bool check) {
-            Args args(b, fn);
-            Call c;
-            c.op = op;
-            c.in[0] = args.vector(q.h, "q", b.nq, "nq");
-            c.in[1] = args.vector(v.h, "v", b.nv, "nv");
-            c.in[2] = args.vector(x.h, third, b.nv, "nv");
-            if (!fext.h.is_none()) c.in[3] = args.forces(fext.h, "fext", b.njoints + (b.floating ? 1 : 0));
-            Output out(args, {std::size_t(b.nv)});
-            c.out[0] = out.out();
-            execute(b, c, args, data, threads, check);
-            return out.array();
-          },
-          "model"_a, "q"_a, "v"_a, nb::arg(third), "fext"_a.none() = nb::none(), nb::kw_only(), SPATIAL_PY_KW, doc);
+  // ---- the terms of the dynamics (options.hpp's Dyn flags) ----------------------------------------------------
+  nb::enum_<spatial::Dyn>(m, "Dyn", nb::is_flag(), nb::is_arithmetic(),
+                          "Terms of tau = H a + C v + G - sum J^T fext that rnea, aba and forward_dynamics compute "
+                          "(the C++ options.hpp flags; combine with |). Left out, a term generates no code: "
+                          "rnea(..., dyn=Dyn.Gravity | Dyn.Acceleration) is H a + G and never reads v. Dyn(0): none "
+                          "(rnea: -sum J^T fext; aba and forward_dynamics: H^-1 tau). Fixed-base models only "
+                          "(floating: Full).")
+      .value("Gravity", spatial::Dyn::Gravity, "G(q): gravity (base acceleration -g).")
+      .value("Velocity", spatial::Dyn::Velocity, "Every term in v: Coriolis, centrifugal, gyroscopic.")
+      .value("Acceleration", spatial::Dyn::Acceleration, "rnea: the H a term (aba, forward_dynamics: ignored).")
+      .value("Full", spatial::Dyn::Full, "Gravity | Velocity | Acceleration: the default.")
+      .value("Static", spatial::Dyn::Static, "Gravity alone: G(q); aba: the acceleration from rest.")
+      .value("QuasiStatic", spatial::Dyn::QuasiStatic, "Gravity | Acceleration: H a + G (v = 0).")
+      .value("NoGravity", spatial::Dyn::NoGravity, "Velocity | Acceleration.");
+
+  // RNEA, ABA and forward dynamics by CRBA: (q, v, a or tau[, fext]) -> (nv,), with the terms of `dyn`. An input
+  // that `dyn` does not read (v without Velocity, rnea's a without Acceleration) may be None.
+  const auto bind_dynamics = [&m](const char* fn, Op op, const char* third, bool with_fext, const char* doc) {
+    auto body = [fn, op, third](const ModelBase& b, ArrayLike q, ArrayLike v, ArrayLike x, ArrayLike fext,
+                                spatial::Dyn dyn, PyData* data, int threads, bool check) {
+      const unsigned terms = unsigned(dyn);
+      const unsigned mask = op == Op::Rnea ? 7u : 3u;  // aba and forward_dynamics ignore Acceleration
+      if ((terms & ~7u) != 0u)
+        throw nb::value_error((std::string(fn) + ": dyn = " + std::to_string(terms) +
+                               " has flags other than Gravity, Velocity and Acceleration (C++'s BaseForces is not "
+                               "available from Python)").c_str());
+      if (b.floating && (terms & mask) != (7u & mask))
+        throw nb::value_error((std::string(fn) + ": dyn= other than Dyn.Full works on fixed-base models only; '" +
+                               b.name + "' has a floating base").c_str());
+      Args args(b, fn);
+      Call c;
+      c.op = op;
+      c.dyn = terms;
+      // An input the terms do not read may be None: it is then a shared vector of zeros (never read).
+      std::vector<double> zeros;
+      const auto optional = [&](ArrayLike h, const char* name, bool read) -> In {
+        if (!h.h.is_none()) return args.vector(h.h, name, b.nv, "nv");
+        if (read)
+          throw nb::type_error((std::string(fn) + ": argument '" + name + "' is None, but dyn includes the term that "
+                                "reads it").c_str());
+        zeros.assign(std::size_t(b.nv), 0.0);
+        return In{zeros.data(), 0};
+      };
+      c.in[0] = args.vector(q.h, "q", b.nq, "nq");
+      c.in[1] = optional(v, "v", (terms & unsigned(spatial::Dyn::Velocity)) != 0u);
+      c.in[2] = optional(x, third, op != Op::Rnea || (terms & unsigned(spatial::Dyn::Acceleration)) != 0u);
+      if (!fext.h.is_none()) c.in[3] = args.forces(fext.h, "fext", b.njoints + (b.floating ? 1 : 0));
+      Output out(args, {std::size_t(b.nv)});
+      c.out[0] = out.out();
+      execute(b, c, args, data, threads, check);
+      return out.array();
+    };
+    // rnea's a may be None (unread without Acceleration); aba's and forward_dynamics' tau is always read.
+    if (op == Op::Rnea) {
+      m.def(fn, body, "model"_a, "q"_a, "v"_a.none(), nb::arg(third).none(), "fext"_a.none() = nb::none(),
+            nb::kw_only(), "dyn"_a.sig("Dyn.Full") = spatial::Dyn::Full, SPATIAL_PY_KW, doc);
+    } else if (with_fext) {
+      m.def(fn, body, "model"_a, "q"_a, "v"_a.none(), nb::arg(third), "fext"_a.none() = nb::none(), nb::kw_only(),
+            "dyn"_a.sig("Dyn.Full") = spatial::Dyn::Full, SPATIAL_PY_KW, doc);
+    } else {
+      m.def(fn,
+            [body](const ModelBase& b, ArrayLike q, ArrayLike v, ArrayLike x, spatial::Dyn dyn, PyData* data,
+                   int threads, bool check) {
+              return body(b, q, v, x, ArrayLike{nb::none()}, dyn, data, threads, check);
+            },
+            "model"_a, "q"_a, "v"_a.none(), nb::arg(third), nb::kw_only(), "dyn"_a.sig("Dyn.Full") = spatial::Dyn::Full,
+            SPATIAL_PY_KW, doc);
+    }
   };
-  bind_dynamics("rnea", Op::Rnea, "a",
-                "Inverse dynamics (RNEA): tau (nv,) or (B, nv) = H(q) a + C(q, v) - sum J^T fext.");
-  bind_dynamics("aba", Op::Aba, "tau", "Forward dynamics (ABA): a (nv,) or (B, nv).");
+  bind_dynamics("rnea", Op::Rnea, "a", true,
+                "Inverse dynamics (RNEA): tau (nv,) or (B, nv) = H(q) a + C(q, v) - sum J^T fext, with the terms of "
+                "dyn (a Dyn flag set; v or a may be None when dyn does not read them).");
+  bind_dynamics("aba", Op::Aba, "tau", true,
+                "Forward dynamics (ABA): a (nv,) or (B, nv), with the terms of dyn (a Dyn flag set; v may be None "
+                "without Dyn.Velocity).");
+  bind_dynamics("forward_dynamics", Op::ForwardDynamics, "tau", false,
+                "Forward dynamics by CRBA + the tree's LTDL factorisation: a = H^-1 (tau - C), with the terms of dyn "
+                "(a Dyn flag set; v may be None without Dyn.Velocity).");
 
   // Ops whose inputs are vectors only: described by (name, inputs (argument name, nq or nv), output shape).
   struct VecIn {
@@ -279,8 +335,6 @@ NB_MODULE(_spatial, m) {
   bind_vec("bias", Op::Bias, {{"q", true}, {"v", false}}, 0,
            "Bias forces C(q, v) = rnea(q, v, 0): Coriolis, centrifugal and gravity terms.");
   bind_vec("crba", Op::Crba, {{"q", true}}, 1, "Joint-space inertia H(q) (CRBA): (nv, nv), both triangles filled.");
-  bind_vec("forward_dynamics", Op::ForwardDynamics, {{"q", true}, {"v", false}, {"tau", false}}, 0,
-           "Forward dynamics by CRBA + the tree's LTDL factorisation: a = H^-1 (tau - C).");
   bind_vec("kinetic_energy", Op::KineticEnergy, {{"q", true}, {"v", false}}, 2, "1/2 v^T H v: float or (B,).");
   bind_vec("potential_energy", Op::PotentialEnergy, {{"q", true}}, 2, "-m g . c: float or (B,).");
   bind_vec("center_of_mass", Op::CenterOfMass, {{"q", true}}, 4,
