@@ -72,6 +72,7 @@ from ._spatial import (  # noqa: F401  (re-exported)
     potential_energy,
     rnea,
     rnea_derivatives,
+    walk,
 )
 from . import _spatial
 
@@ -86,7 +87,7 @@ __all__ = [
     "ik_position", "ik_orientation", "ik_pose", "ik_center_of_mass", "Contact", "Contact3D", "Contact6D",
     "Contacts", "center_of_pressure", "constrained_forward_dynamics", "contact_inverse_dynamics",
     "contact_jacobian", "contact_wrench", "impulse_dynamics", "multibody_zmp", "lock_joints", "keep_joints",
-    "keep_branches",
+    "keep_branches", "walk",
 ]
 
 _URDF_DIR = _os.path.join(_os.path.dirname(__file__), "urdf")

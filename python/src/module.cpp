@@ -12,6 +12,8 @@ namespace spatial::python {
 void bind_contacts(nb::module_& m);
 /// bind_ik.cpp: inverse kinematics.
 void bind_ik(nb::module_& m);
+/// bind_walking.cpp: the walking pattern generator and its closed-loop simulation.
+void bind_walking(nb::module_& m);
 }  // namespace spatial::python
 
 using namespace spatial::python;
@@ -521,5 +523,6 @@ NB_MODULE(_spatial, m) {
 #undef SPATIAL_PY_KW
 
   spatial::python::bind_ik(m);
+  spatial::python::bind_walking(m);
   spatial::python::bind_contacts(m);
 }
