@@ -20,7 +20,11 @@
     columns: the transposes of the same arrays, F-contiguous, which it reads without a copy), when the installed pin
     has it ("not available" otherwise). Throughput = states per second of wall time (the median over repeats).
     Checks on the way (in the JSON): threads=0 gives the same numbers as threads=1, a batch row the same as one call,
-    ABA inverts RNEA, and Pinocchio's batch matches its loop.
+    ABA inverts RNEA, and Pinocchio's batch matches its loop. On the smaller batch, one thread: the `Dyn` flag sets
+    QuasiStatic and Static of `spatial.rnea`, `spatial.gravity` and `spatial.aba` with Static (what leaving terms out
+    saves).
+(c) The walking generator: one `spatial.walk()` (8 steps; 2 with --quick), its wall time beside its stages' own
+    clocks (the open-loop passes, the closed-loop simulation).
 
 Writes OUT/bench.json (every measurement, with clearly named fields) and OUT/bench.md (the tables, without a heading,
 for tools/report.py's "Python package" section). Takes about 40 s on 2 cores (the 1e6-state batches take ~1 s each for
@@ -425,6 +429,20 @@ def main():
         del Q, V, A, T, benv, penv
         gc.collect()
 
+    # --- the walking generator: one call of spatial.walk (the default 8-step walk), its stages' own clocks -----------
+    t0 = time.perf_counter()
+    wk = spatial.walk(steps=2 if args.quick else 8)
+    walk = {"steps": 2 if args.quick else 8, "seconds_wall": time.perf_counter() - t0,
+            "ticks": int(wk["open_loop_summary"]["ticks"]),
+            "open_loop_seconds": float(sum(p["seconds"] for p in wk["open_loop_summary"]["passes"])),
+            "passes": len(wk["open_loop_summary"]["passes"]),
+            "tick_us_mean": wk["open_loop_summary"]["tick_seconds_mean"] * 1e6,
+            "closed_loop_seconds": wk["closed_loop_summary"]["seconds"],
+            "simulation_step_us": wk["closed_loop_summary"]["step_seconds_mean"] * 1e6,
+            "walked": bool(wk["closed_loop_summary"]["walked"])}
+    print(f"  spatial.walk(steps={walk['steps']}): {walk['seconds_wall']:.3g} s, walked {walk['walked']}", flush=True)
+    del wk
+
     # --- output ---------------------------------------------------------------------------------------------------
     versions = {"python": platform.python_version(), "numpy": np.__version__,
                 "spatial": getattr(spatial, "__version__", None) or distribution_version("spatial"),
@@ -449,6 +467,7 @@ def main():
         "batch": batch,
         "pinocchio_batch_api": pin_batch_api or ("not available" if pin is not None else "absent (no pin)"),
         "checks": checks,
+        "walk": walk,
         "notes": notes,
         "seconds_total": time.perf_counter() - start,
     }
@@ -541,6 +560,14 @@ def markdown(result, find_call, threads_all):
     if ch:
         w("Checks: " + "; ".join(f"{k.replace('_', ' ')}: {v if isinstance(v, bool) else f'{v:.1e}'}"
                                  for k, v in ch.items()) + ".")
+        w("")
+    wk = result.get("walk")
+    if wk:
+        w(f"**The walking generator from Python**: `spatial.walk(steps={wk['steps']})` ({wk['ticks']} ticks of 2 ms, "
+          f"{'walked' if wk['walked'] else 'did NOT walk'}) took {wk['seconds_wall']:.3g} s of wall time: the open loop "
+          f"{wk['open_loop_seconds']:.3g} s ({wk['passes']} passes; last pass {wk['tick_us_mean']:.3g} µs per tick: "
+          f"IK, inverse dynamics with contacts, ZMP), the closed-loop simulation {wk['closed_loop_seconds']:.3g} s "
+          f"({wk['simulation_step_us']:.3g} µs per 1 ms step); the rest: the plan, the preview gains, the model and the NumPy arrays.")
         w("")
     for note in result["notes"]:
         w(f"- {note}")
