@@ -334,16 +334,18 @@ class Engine final : public ModelBase {
       const auto q = q_at(c.in[0], b);
       const auto v = v_at(c.in[1], b);
       const auto a = v_at(c.in[2], b);
-      if (c.in[3].p) load_fext(c.in[3], b, ws);
+      if (c.in[3].p) {  // external forces: Full only (the bindings refuse the other sets with fext)
+        load_fext(c.in[3], b, ws);
+        put_vector(c.out[0], b, rnea(m, d, q, v, a, ws.fext));
+        return;
+      }
+      // G and G + C v are gravity_torques and bias_forces (the same terms; no further copy of the code).
       with_dyn<7u, kFloating>(c.dyn, [&](auto D) {
         constexpr Dyn terms = decltype(D)::value;
-        if constexpr (terms == Dyn::Full) {
-          if (c.in[3].p) put_vector(c.out[0], b, rnea(m, d, q, v, a, ws.fext));
-          else put_vector(c.out[0], b, rnea(m, d, q, v, a));
-        } else {
-          if (c.in[3].p) put_vector(c.out[0], b, rnea<terms>(m, d, q, v, a, ws.fext));
-          else put_vector(c.out[0], b, rnea<terms>(m, d, q, v, a));
-        }
+        if constexpr (terms == Dyn::Full) put_vector(c.out[0], b, rnea(m, d, q, v, a));
+        else if constexpr (terms == Dyn::Gravity) put_vector(c.out[0], b, gravity_torques(m, d, q));
+        else if constexpr (terms == (Dyn::Gravity | Dyn::Velocity)) put_vector(c.out[0], b, bias_forces(m, d, q, v));
+        else put_vector(c.out[0], b, rnea<terms>(m, d, q, v, a));
       });
     } else if constexpr (O == Op::Gravity) {
       put_vector(c.out[0], b, gravity_torques(m, d, q_at(c.in[0], b)));
@@ -355,16 +357,15 @@ class Engine final : public ModelBase {
       const auto q = q_at(c.in[0], b);
       const auto v = v_at(c.in[1], b);
       const auto tau = v_at(c.in[2], b);
-      if (c.in[3].p) load_fext(c.in[3], b, ws);
+      if (c.in[3].p) {  // external forces: Full only, as for rnea
+        load_fext(c.in[3], b, ws);
+        put_vector(c.out[0], b, aba(m, d, q, v, tau, ws.fext));
+        return;
+      }
       with_dyn<3u, kFloating>(c.dyn, [&](auto D) {
         constexpr Dyn terms = decltype(D)::value;
-        if constexpr (terms == Dyn::Full) {
-          if (c.in[3].p) put_vector(c.out[0], b, aba(m, d, q, v, tau, ws.fext));
-          else put_vector(c.out[0], b, aba(m, d, q, v, tau));
-        } else {
-          if (c.in[3].p) put_vector(c.out[0], b, aba<terms>(m, d, q, v, tau, ws.fext));
-          else put_vector(c.out[0], b, aba<terms>(m, d, q, v, tau));
-        }
+        if constexpr (terms == Dyn::Full) put_vector(c.out[0], b, aba(m, d, q, v, tau));
+        else put_vector(c.out[0], b, aba<terms>(m, d, q, v, tau));
       });
     } else if constexpr (O == Op::ForwardDynamics) {
       const auto q = q_at(c.in[0], b);

@@ -223,6 +223,10 @@ NB_MODULE(_spatial, m) {
         throw nb::value_error((std::string(fn) + ": dyn = " + std::to_string(terms) +
                                " has flags other than Gravity, Velocity and Acceleration (C++'s BaseForces is not "
                                "available from Python)").c_str());
+      if (!fext.h.is_none() && (terms & mask) != (7u & mask))
+        throw nb::value_error((std::string(fn) + ": fext= works with dyn=Dyn.Full only (C++ has the other sets with "
+                               "external forces; from Python add the forces' part, which is linear: rnea(q, v, a, "
+                               "fext) - rnea(q, v, a))").c_str());
       if (b.floating && (terms & mask) != (7u & mask))
         throw nb::value_error((std::string(fn) + ": dyn= other than Dyn.Full works on fixed-base models only; '" +
                                b.name + "' has a floating base").c_str());
