@@ -371,6 +371,18 @@ CRASH_SCRIPT = textwrap.dedent(r"""
                 spatial.rnea(m, q, good[1], good[2], fext=fext)
             except Exception:
                 pass
+        for dyn in (spatial.Dyn(0), spatial.Dyn.Static, spatial.Dyn(8), spatial.Dyn(255), 7, -1, None, "x", 1.5):
+            for f in (spatial.rnea, spatial.aba, spatial.forward_dynamics):
+                for v in (good[1], None, np.full(m.nv, np.nan)):
+                    for x in (good[2], None):
+                        for fext in (None, np.zeros((m.njoints + (1 if m.floating else 0), 6))):
+                            try:
+                                if fext is None:
+                                    f(m, q, v, x, dyn=dyn)
+                                else:
+                                    f(m, q, v, x, fext, dyn=dyn)
+                            except Exception:
+                                pass
         for t in (-1, 0, 1, 1000, 2**40):
             try:
                 spatial.rnea(m, np.tile(q, (4, 1)), np.ones((4, m.nv)), np.ones((4, m.nv)), threads=t)
@@ -391,6 +403,13 @@ CRASH_SCRIPT = textwrap.dedent(r"""
                {"lock": {"R_EB_R_WR_joint": float("inf")}}, {"lock": "abc"}, {"gravity": "abc"}):
         try:
             spatial.load_urdf(path, **kw)
+        except Exception:
+            pass
+    for kw in ({"steps": -5}, {"steps": 2**40}, {"length": float("nan")}, {"width": float("inf")}, {"period": -1.0},
+               {"double_support": float("nan")}, {"turn": 10.0}, {"swing_height": float("nan")}, {"zmp_model": ""},
+               {"first_swing": None}, {"com_height": float("nan")}, {"second_stage": -3}, {"closed_loop": "x"}):
+        try:
+            spatial.walk(**kw)
         except Exception:
             pass
     print("survived", count)
