@@ -33,6 +33,8 @@
 #include <sstream>
 #include <string>
 #include <thread>
+#include <tuple>
+#include <type_traits>
 #include <vector>
 
 namespace nb = nanobind;
@@ -213,6 +215,21 @@ class Args {
   std::size_t nkept_ = 0;
 };
 
+/// A fresh NumPy array of `nd` dimensions `shape` and elements T (double: float64, bool: NumPy's bool), and a
+/// pointer to its data.
+template <class T>
+std::pair<nb::object, T*> new_array(int nd, const npy_intp* shape) {
+  static_assert(std::is_same_v<T, double> || std::is_same_v<T, bool>, "new_array: float64 or bool");
+  constexpr int type = std::is_same_v<T, double> ? NPY_DOUBLE : NPY_BOOL;  // (a macro argument cannot hold T's comma)
+  PyObject* a = PyArray_SimpleNew(nd, const_cast<npy_intp*>(shape), type);
+  if (!a) throw nb::python_error();
+  return {nb::steal(a), static_cast<T*>(PyArray_DATA(reinterpret_cast<PyArrayObject*>(a)))};
+}
+template <class T>
+std::pair<nb::object, T*> new_array(std::initializer_list<npy_intp> shape) {
+  return new_array<T>(int(shape.size()), shape.begin());
+}
+
 /// A fresh float64 NumPy array of shape (B, dims...) or (dims...).
 struct Output {
   Output(const Args& args, std::initializer_list<std::size_t> dims) {
@@ -221,10 +238,7 @@ struct Output {
     if (args.batched()) shape[nd++] = npy_intp(args.count());
     per_state = 1;
     for (std::size_t d : dims) shape[nd++] = npy_intp(d), per_state *= std::ptrdiff_t(d);
-    PyObject* a = PyArray_SimpleNew(nd, shape, NPY_DOUBLE);
-    if (!a) throw nb::python_error();
-    obj = nb::steal(a);
-    data = static_cast<double*>(PyArray_DATA(reinterpret_cast<PyArrayObject*>(a)));
+    std::tie(obj, data) = new_array<double>(nd, shape);
   }
   spatial::python::Out out() const { return {data, per_state}; }
   NDArray array() const { return {obj}; }

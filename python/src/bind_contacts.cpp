@@ -72,11 +72,8 @@ StridedOut strided(const Out& out) { return {out.p, out.stride}; }
 /// A fresh NumPy bool array of shape (B,) or () (contact_inverse_dynamics' ok).
 struct Flags {
   explicit Flags(const Args& args) {
-    npy_intp shape[1] = {npy_intp(args.count())};
-    PyObject* a = PyArray_SimpleNew(args.batched() ? 1 : 0, shape, NPY_BOOL);
-    if (!a) throw nb::python_error();
-    obj = nb::steal(a);
-    data = static_cast<bool*>(PyArray_DATA(reinterpret_cast<PyArrayObject*>(a)));
+    const npy_intp shape[1] = {npy_intp(args.count())};
+    std::tie(obj, data) = new_array<bool>(args.batched() ? 1 : 0, shape);
   }
   BoolOrArray result(const Args& args) const { return {args.batched() ? obj : nb::bool_(data[0])}; }
   nb::object obj;
@@ -343,11 +340,9 @@ void bind_contacts(nb::module_& m) {
                    "The contact descriptions (Contact6D / Contact3D), in order.")
       .def_prop_ro("targets",
                    [](const PyContacts& c) {
-                     npy_intp shape[3] = {npy_intp(c.impl->names.size()), 4, 4};
-                     PyObject* a = PyArray_SimpleNew(3, shape, NPY_DOUBLE);
-                     if (!a) throw nb::python_error();
-                     c.impl->targets(static_cast<double*>(PyArray_DATA(reinterpret_cast<PyArrayObject*>(a))));
-                     return NDArray{nb::steal(a)};
+                     auto [a, p] = new_array<double>({npy_intp(c.impl->names.size()), 4, 4});
+                     c.impl->targets(p);
+                     return NDArray{a};
                    },
                    "The Baumgarte targets (k, 4, 4): each contact's world pose [R p; 0 1] (default identity).")
       .def("set_targets",

@@ -20,29 +20,10 @@ struct WalkResult {
   nb::object o;
 };
 
-/// A fresh float64 array of shape `dims` and a pointer to its data.
-inline std::pair<nb::object, double*> new_array(std::initializer_list<npy_intp> dims) {
-  npy_intp shape[3];
-  int nd = 0;
-  for (npy_intp d : dims) shape[nd++] = d;
-  PyObject* a = PyArray_SimpleNew(nd, shape, NPY_DOUBLE);
-  if (!a) throw nb::python_error();
-  return {nb::steal(a), static_cast<double*>(PyArray_DATA(reinterpret_cast<PyArrayObject*>(a)))};
-}
-/// A fresh bool array of shape `dims`.
-inline std::pair<nb::object, bool*> new_bools(std::initializer_list<npy_intp> dims) {
-  npy_intp shape[3];
-  int nd = 0;
-  for (npy_intp d : dims) shape[nd++] = d;
-  PyObject* a = PyArray_SimpleNew(nd, shape, NPY_BOOL);
-  if (!a) throw nb::python_error();
-  return {nb::steal(a), static_cast<bool*>(PyArray_DATA(reinterpret_cast<PyArrayObject*>(a)))};
-}
-
 /// Rows of per-sample vectors: out[k, :] = get(samples[k]) (each of `width` entries).
 template <class Samples, class Get>
 nb::object rows(const Samples& samples, npy_intp width, Get get) {
-  auto [obj, p] = new_array({npy_intp(samples.size()), width});
+  auto [obj, p] = new_array<double>({npy_intp(samples.size()), width});
   for (const auto& s : samples) {
     const auto& x = get(s);
     for (npy_intp i = 0; i < width; ++i) *p++ = x[i];
@@ -52,16 +33,25 @@ nb::object rows(const Samples& samples, npy_intp width, Get get) {
 /// The sample time of each row.
 template <class Samples>
 nb::object times(const Samples& samples) {
-  auto [obj, p] = new_array({npy_intp(samples.size())});
+  auto [obj, p] = new_array<double>({npy_intp(samples.size())});
   for (const auto& s : samples) *p++ = s.t;
   return obj;
+}
+/// t, q (N, nq), v, a (N, nv) and tau (N, ntau) of a run's samples into `d`.
+template <class Samples>
+void motion(nb::dict& d, const Samples& samples, npy_intp nq, npy_intp nv, npy_intp ntau) {
+  d["t"] = times(samples);
+  d["q"] = rows(samples, nq, [](const auto& s) -> const auto& { return s.q; });
+  d["v"] = rows(samples, nv, [](const auto& s) -> const auto& { return s.v; });
+  d["a"] = rows(samples, nv, [](const auto& s) -> const auto& { return s.a; });
+  d["tau"] = rows(samples, ntau, [](const auto& s) -> const auto& { return s.tau; });
 }
 /// (N, 2, 6) per-foot wrenches [force; moment] (left, right) and (N, 2) contact flags.
 template <class Samples>
 void feet(nb::dict& d, const Samples& samples) {
   const npy_intp n = npy_intp(samples.size());
-  auto [w, pw] = new_array({n, 2, 6});
-  auto [c, pc] = new_bools({n, 2});
+  auto [w, pw] = new_array<double>({n, 2, 6});
+  auto [c, pc] = new_array<bool>({n, 2});
   for (const auto& s : samples)
     for (int f = 0; f < 2; ++f) {
       for (int i = 0; i < 6; ++i) *pw++ = s.wrench[std::size_t(f)][i];
@@ -71,7 +61,7 @@ void feet(nb::dict& d, const Samples& samples) {
   d["contact"] = c;
 }
 inline nb::object vector(const Eigen::VectorXd& x) {
-  auto [obj, p] = new_array({npy_intp(x.size())});
+  auto [obj, p] = new_array<double>({npy_intp(x.size())});
   for (Eigen::Index i = 0; i < x.size(); ++i) p[i] = x[i];
   return obj;
 }
@@ -141,14 +131,10 @@ void bind_walking(nb::module_& m) {
 
         const auto& os = open->samples;
         nb::dict o;
-        o["t"] = times(os);
-        o["q"] = rows(os, nq, [](const auto& s) -> const auto& { return s.q; });
-        o["v"] = rows(os, nv, [](const auto& s) -> const auto& { return s.v; });
-        o["a"] = rows(os, nv, [](const auto& s) -> const auto& { return s.a; });
-        o["tau"] = rows(os, nv, [](const auto& s) -> const auto& { return s.tau; });
+        motion(o, os, nq, nv, nv);  // tau: nv (the root rows ~0)
         feet(o, os);
         {
-          auto [ok, p] = new_bools({npy_intp(os.size())});
+          auto [ok, p] = new_array<bool>({npy_intp(os.size())});
           for (const auto& s : os) *p++ = s.ok;
           o["ok"] = ok;
         }
@@ -159,7 +145,7 @@ void bind_walking(nb::module_& m) {
         o["com"] = rows(os, 3, [](const auto& s) -> const auto& { return s.com; });
         // The first stage (cart-table preview control alone): its CoM and ZMP, and the multibody ZMP of its pass.
         const auto matrix = [](const auto& x) {
-          auto [obj, p] = new_array({npy_intp(x.rows()), npy_intp(x.cols())});
+          auto [obj, p] = new_array<double>({npy_intp(x.rows()), npy_intp(x.cols())});
           for (Eigen::Index r = 0; r < x.rows(); ++r)
             for (Eigen::Index c = 0; c < x.cols(); ++c) *p++ = x(r, c);
           return obj;
@@ -207,15 +193,11 @@ void bind_walking(nb::module_& m) {
         if (closed) {
           const auto& cs = closed->samples;
           nb::dict c;
-          c["t"] = times(cs);
-          c["q"] = rows(cs, nq, [](const auto& s) -> const auto& { return s.q; });
-          c["v"] = rows(cs, nv, [](const auto& s) -> const auto& { return s.v; });
-          c["a"] = rows(cs, nv, [](const auto& s) -> const auto& { return s.a; });
-          c["tau"] = rows(cs, nj, [](const auto& s) -> const auto& { return s.tau; });
+          motion(c, cs, nq, nv, nj);  // tau: the joints only
           feet(c, cs);
           c["cop"] = rows(cs, 2, [](const auto& s) -> const auto& { return s.cop; });
           {
-            auto [mg, p] = new_array({npy_intp(cs.size())});
+            auto [mg, p] = new_array<double>({npy_intp(cs.size())});
             for (const auto& s : cs) *p++ = s.margin;
             c["margin"] = mg;
           }

@@ -21,11 +21,9 @@ using namespace spatial::python;
 namespace {
 
 NDArray as_numpy(const std::vector<double>& x) {
-  npy_intp n = npy_intp(x.size());
-  PyObject* a = PyArray_SimpleNew(1, &n, NPY_DOUBLE);
-  if (!a) throw nb::python_error();
-  std::copy(x.begin(), x.end(), static_cast<double*>(PyArray_DATA(reinterpret_cast<PyArrayObject*>(a))));
-  return {nb::steal(a)};
+  auto [a, p] = new_array<double>({npy_intp(x.size())});
+  std::copy(x.begin(), x.end(), p);
+  return {a};
 }
 
 spatial::urdf_io::LoadOptions load_options(std::optional<std::string> root, bool floating, nb::handle lock,
@@ -219,15 +217,16 @@ NB_MODULE(_spatial, m) {
                                 spatial::Dyn dyn, PyData* data, int threads, bool check) {
       const unsigned terms = unsigned(dyn);
       const unsigned mask = op == Op::Rnea ? 7u : 3u;  // aba and forward_dynamics ignore Acceleration
+      const bool partial = (terms & mask) != (7u & mask);  // a set other than Full
       if ((terms & ~7u) != 0u)
         throw nb::value_error((std::string(fn) + ": dyn = " + std::to_string(terms) +
                                " has flags other than Gravity, Velocity and Acceleration (C++'s BaseForces is not "
                                "available from Python)").c_str());
-      if (!fext.h.is_none() && (terms & mask) != (7u & mask))
+      if (!fext.h.is_none() && partial)
         throw nb::value_error((std::string(fn) + ": fext= works with dyn=Dyn.Full only (C++ has the other sets with "
                                "external forces; from Python add the forces' part, which is linear: rnea(q, v, a, "
                                "fext) - rnea(q, v, a))").c_str());
-      if (b.floating && (terms & mask) != (7u & mask))
+      if (b.floating && partial)
         throw nb::value_error((std::string(fn) + ": dyn= other than Dyn.Full works on fixed-base models only; '" +
                                b.name + "' has a floating base").c_str());
       Args args(b, fn);

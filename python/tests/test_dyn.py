@@ -53,6 +53,16 @@ def _fext(m, count, seed):
     return rng.uniform(-2.0, 2.0, size=(count, m.njoints, 6))
 
 
+def _check_fext(name, call, dyn, full, expected, rtol, key):
+    """fext with the set `dyn`: the forces' part added when the set is all of the function's terms (`full`), refused
+    otherwise (external forces with Full only; the forces' part is linear: add it)."""
+    if full:
+        assert_close(call(), expected, rtol=rtol, err_msg=f"{key} {name} {dyn!r} with fext")
+    else:
+        with pytest.raises(ValueError, match=f"{name}: fext= works with dyn=Dyn.Full only"):
+            call()
+
+
 def test_flag_values():
     assert G | A == D.QuasiStatic and G == D.Static and V | A == D.NoGravity and G | V | A == D.Full
     assert len(set(RNEA_SETS)) == 8 and int(D(0)) == 0
@@ -66,12 +76,8 @@ def test_rnea_terms(fixed):
     for dyn in RNEA_SETS:
         expected = np.zeros_like(g) + (g if G in dyn else 0) + (cv if V in dyn else 0) + (ha if A in dyn else 0)
         assert_close(spatial.rnea(m, s.Q, s.V, s.A, dyn=dyn), expected, rtol=1e-11, err_msg=f"{key} rnea {dyn!r}")
-        if dyn == D.Full:
-            assert_close(spatial.rnea(m, s.Q, s.V, s.A, fe, dyn=dyn), expected + f, rtol=1e-11,
-                         err_msg=f"{key} rnea {dyn!r} with fext")
-        else:  # external forces with Full only (the forces' part is linear: add it)
-            with pytest.raises(ValueError, match="rnea: fext= works with dyn=Dyn.Full only"):
-                spatial.rnea(m, s.Q, s.V, s.A, fe, dyn=dyn)
+        _check_fext("rnea", lambda: spatial.rnea(m, s.Q, s.V, s.A, fe, dyn=dyn), dyn, dyn == D.Full, expected + f,
+                    1e-11, key)
     # Full is what the call without dyn computes, bit for bit.
     np.testing.assert_array_equal(spatial.rnea(m, s.Q, s.V, s.A, dyn=D.Full), spatial.rnea(m, s.Q, s.V, s.A))
 
@@ -86,12 +92,8 @@ def test_aba_and_forward_dynamics_terms(fixed):
         expected = np.linalg.solve(H, rhs[..., None])[..., 0]
         with_f = np.linalg.solve(H, (rhs - f)[..., None])[..., 0]
         assert_close(spatial.aba(m, s.Q, s.V, s.T, dyn=dyn), expected, rtol=1e-9, err_msg=f"{key} aba {dyn!r}")
-        if dyn == G | V:  # all of aba's terms: Full
-            assert_close(spatial.aba(m, s.Q, s.V, s.T, fe, dyn=dyn), with_f, rtol=1e-9,
-                         err_msg=f"{key} aba {dyn!r} with fext")
-        else:
-            with pytest.raises(ValueError, match="aba: fext= works with dyn=Dyn.Full only"):
-                spatial.aba(m, s.Q, s.V, s.T, fe, dyn=dyn)
+        # G | V is all of aba's terms: Full
+        _check_fext("aba", lambda: spatial.aba(m, s.Q, s.V, s.T, fe, dyn=dyn), dyn, dyn == G | V, with_f, 1e-9, key)
         assert_close(spatial.forward_dynamics(m, s.Q, s.V, s.T, dyn=dyn), expected, rtol=1e-9,
                      err_msg=f"{key} forward_dynamics {dyn!r}")
         # Acceleration does not apply to forward dynamics: with or without it, the same code and numbers.
