@@ -6,7 +6,8 @@
 // joint a RevoluteAxis joint about the same axis: the scalar path), on the HOAP-3 models and random trees, fixed and
 // floating; so are the functions built on them (CoM Jacobian, A_G). The one-walk Jacobians are also written into a
 // block of a larger matrix (outer stride ≠ 6), which takes the scalar walk; a run-time chain deeper than the walk's
-// stack arrays takes it too.
+// stack arrays takes it too. A_G is also computed into such a block, where its columns are moved to the CoM one by
+// one rather than four lanes at a time.
 #include "support/simd_compare.hpp"
 
 #include <spatial/models/hoap3_floating.hpp>
@@ -80,6 +81,14 @@ void compare_kinematics(const M& m, const R& r, DM& dm, DR& dr, const Q& q, int 
   centroidal_momentum_matrix(m, dm, q, Am);
   centroidal_momentum_matrix(r, dr, qd, Ar);
   EXPECT_LE(max_diff(Am, Ar), tol * (1 + double(Ar.cwiseAbs().maxCoeff()))) << "centroidal_momentum_matrix";
+  // A_G's joint columns are moved to the CoM four lanes at a time in a plain matrix (simd::move_force_columns), one
+  // by one in a block of a larger one (outer stride ≠ 6): the same matrix, and nothing outside the block written.
+  MX bigA = MX::Constant(9, nv + 2, S(7));
+  centroidal_momentum_matrix(m, dm, q, bigA.block(2, 1, 6, nv));
+  EXPECT_LE(max_diff(bigA.block(2, 1, 6, nv), Am), tol * (1 + double(Ar.cwiseAbs().maxCoeff())))
+      << "centroidal_momentum_matrix into a block";
+  bigA.block(2, 1, 6, nv).setConstant(S(7));
+  EXPECT_TRUE((bigA.array() == S(7)).all()) << "centroidal_momentum_matrix wrote outside the block";
 }
 
 template <class TreeT, class S>

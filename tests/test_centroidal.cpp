@@ -295,6 +295,24 @@ TEST(CentroidalCom, AccelerationMatchesSecondDifference) {
 // Centroidal momentum matrix, momentum and composite inertia
 // ---------------------------------------------------------------------------------------------------------------
 
+/// A_G computed into a block of a larger matrix (column stride 9) and into a row-major matrix, where the column move
+/// to the CoM is scalar, is the same matrix as `Ag`, computed into a plain column-major one (its columns moved four
+/// lanes at a time where the build has AVX2); the larger matrix keeps its entries outside the block.
+template <class M, class D>
+void expect_same_in_other_layouts(const M& m, D& d, const Vec& q, const Mat& Ag) {
+  const auto n = Ag.cols();
+  Mat big = Mat::Constant(9, n + 2, 7.0);
+  centroidal_momentum_matrix(m, d, q, big.block(2, 1, 6, n));
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> rows(6, n);
+  centroidal_momentum_matrix(m, d, q, rows);
+  const double tol = 1e-14 * (1 + Ag.cwiseAbs().maxCoeff());
+  EXPECT_LE((big.block(2, 1, 6, n) - Ag).cwiseAbs().maxCoeff(), tol) << "block of a larger matrix";
+  EXPECT_LE((rows - Ag).cwiseAbs().maxCoeff(), tol) << "row-major";
+  Mat outside = big;
+  outside.block(2, 1, 6, n).setConstant(7.0);
+  EXPECT_TRUE((outside.array() == 7.0).all()) << "entries outside the block changed";
+}
+
 TEST(CentroidalMomentum, FixedMatchesTheBodiesMomentaAboutTheCom) {
   // No difference quotient: 1e-12 relative to |h_G| (|I_G|).
   double worst = 0;
@@ -307,6 +325,7 @@ TEST(CentroidalMomentum, FixedMatchesTheBodiesMomentaAboutTheCom) {
       const Vec v = spatial::testing::random_vector(m.size(), rng);
       Mat Ag(6, m.size());
       centroidal_momentum_matrix(m, d, q, Ag);
+      expect_same_in_other_layouts(m, d, q, Ag);
       const V3 com = d.com;
       EXPECT_LT((com - center_of_mass(m, d, q)).norm(), 1e-14);
       const auto bodies = fixed_bodies(m, d, q, v);
@@ -340,6 +359,7 @@ TEST(CentroidalMomentum, FloatingMatchesTheBodiesMomentaAboutTheCom) {
       const Vec v = spatial::testing::random_vector(m.nv(), rng);
       Mat Ag(6, m.nv());
       centroidal_momentum_matrix(m, d, q, Ag);
+      expect_same_in_other_layouts(m, d, q, Ag);
       const V3 com = d.com;
       EXPECT_LT((com - center_of_mass(m, d, q)).norm(), 1e-14 * 10);
       const auto bodies = floating_bodies(m, d, q, v);

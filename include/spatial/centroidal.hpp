@@ -261,9 +261,21 @@ Inertia<S> base_momentum_columns(const Model<S, T>& model, Data<S, T>& data, con
 }
 
 /// Moves columns offset … offset + n − 1 of A_G (linear first: forces about the base origin, base coordinates) to
-/// the centroidal frame XG = ᴳX_base.
+/// the centroidal frame XG = ᴳX_base: f′ = E f, n′ = E (n − r × f). With AVX2 and a column-major A_G whose columns
+/// are contiguous (a plain matrix, a Map or Ref of one), four lanes per 3-vector (simd.hpp); otherwise scalar.
 template <class S, class AG>
 void centroidal_columns(const Transform<S>& XG, int offset, int n, AG& Ag) {
+#if SPATIAL_SIMD_AVX2
+  constexpr bool lanes = std::is_same_v<S, double> || std::is_same_v<S, float>;
+  constexpr int flags = int(AG::Flags);
+  if constexpr (lanes && (flags & Eigen::DirectAccessBit) && !(flags & Eigen::RowMajorBit) &&
+                int(AG::InnerStrideAtCompileTime) == 1) {
+    if (Ag.derived().outerStride() == 6) {
+      simd::move_force_columns(XG, Ag.derived().data(), offset, n);
+      return;
+    }
+  }
+#endif
   for (int c = offset; c < offset + n; ++c) {
     const Force<S> F = XG.apply_force(
         Force<S>(Vector3<S>(Ag.template block<3, 1>(3, c)), Vector3<S>(Ag.template block<3, 1>(0, c))));
@@ -272,18 +284,17 @@ void centroidal_columns(const Transform<S>& XG, int offset, int n, AG& Ag) {
   }
 }
 
-/// The free-flyer's six columns of A_G: the composite inertia of the whole robot at the root, Ic0 (root
-/// coordinates), applied to the unit root motions (linear first) and moved to the centroidal frame by XG.
+/// The free-flyer's six columns of A_G, from the composite inertia of the whole robot at the root, Ic0 = (m, h = m c,
+/// Ī) in root coordinates, and R (root axes → world axes). A unit root motion (linear first) carries the momentum
+/// Ic0 u; moved to the CoM and turned to world axes it is
+///   linear rates:  [m R; 0]             (a translation has no angular momentum about the CoM)
+///   angular rates: [−R h̃; R Ī_c]       (Ī_c = Ī − h̃ h̃ᵀ / m: the rotational inertia about the CoM)
 template <class S, class AG>
-void root_centroidal_columns(const Inertia<S>& Ic0, const Transform<S>& XG, AG& Ag) {
-  for (int c = 0; c < 6; ++c) {
-    Motion<S> u = Motion<S>::Zero();
-    if (c < 3) u.v[c] = S(1);
-    else u.w[c - 3] = S(1);
-    const Force<S> F = XG.apply_force(Ic0 * u);
-    Ag.template block<3, 1>(0, c) = F.f;
-    Ag.template block<3, 1>(3, c) = F.n;
-  }
+void root_centroidal_columns(const Inertia<S>& Ic0, const Matrix3<S>& R, AG& Ag) {
+  Ag.template block<3, 3>(0, 0) = Ic0.m * R;
+  Ag.template block<3, 3>(3, 0).setZero();
+  Ag.template block<3, 3>(0, 3) = -(R * skew(Ic0.h));
+  Ag.template block<3, 3>(3, 3) = R * Ic0.inertia_com();
 }
 
 /// I_G (linear first) from the whole robot's inertia in base coordinates moved to the centroidal frame XG:
@@ -562,7 +573,7 @@ void centroidal_momentum_matrix(const FloatingModel<S, T>& model, FloatingData<S
   const Vector3<S> c = total.h / total.m;  // root coordinates
   data.com = data.X0.r + detail::root_rotation(data) * c;
   const Transform<S> XG = detail::centroidal_frame(data, c);
-  detail::root_centroidal_columns(total, XG, Ag);
+  detail::root_centroidal_columns(total, XG.E, Ag);
   detail::centroidal_columns(XG, 6, n, Ag);
 }
 

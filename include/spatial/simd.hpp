@@ -649,6 +649,24 @@ SPATIAL_INLINE void world_jacobian_columns(const Motion<S>* s, int n, const Tran
   }
 }
 
+/// Columns offset … offset + n − 1 of a 6-row column-major force matrix (rows linear first: f, then the moment n)
+/// moved in place by the transform X: f′ = E f, n′ = E (n − r × f) (centroidal.hpp: A_G's joint columns).
+template <class S>
+SPATIAL_INLINE void move_force_columns(const Transform<S>& X, S* A, int offset, int n) {
+  using V = Vec<S>;
+  // E's storage is column-major: its three columns, and comb with them is E x.
+  const V c0 = load3z(X.E.data()), c1 = load3z(X.E.data() + 3), c2 = load3(X.E.data() + 6);
+  const V r = load3(X.r.data());
+  for (int c = offset; c < offset + n; ++c) {
+    S* col = A + 6 * c;
+    // f is followed by n in the column: four lanes, the fourth cleared; n is the column's end: three lanes only.
+    const V f = load3z(col), m = load3(col + 3);
+    const V fo = comb(c0, c1, c2, f), no = comb(c0, c1, c2, sub(m, cross(r, f)));
+    store4(col, fo);
+    store3(col + 3, no);
+  }
+}
+
 /// crba_impl's AVX2 path: the same three passes and the same outputs in `data` (X_up, X_base, S_base, Ic, H). The
 /// transforms ⁱX_λ are composed again from data.cos_q and data.sin_q rather than read back from data.X_up: reading
 /// a 4-lane value that two stores wrote moments ago stalls until they retire, which costs more than the rotation.
