@@ -100,6 +100,7 @@ namespace detail {
 struct NoForceSink {
   static constexpr bool active = false;
   static constexpr bool entries = true;
+  static constexpr bool sums_roots = false;
   template <class F>
   void operator()(int, const F&) const {}
 };
@@ -490,7 +491,9 @@ namespace detail {
 /// receives every entry `sink.entry(i, j, Hᵢⱼ)` (j = i or an ancestor of i; `data.H` is then not written) and every
 /// body's `sink(i, F⁰)`, Fᵢ⁰ = ⁱX_0ᵀ Iᶜᵢ Sᵢ in base coordinates, the roots' included. The default `NoForceSink`
 /// compiles to nothing. A sink whose `entries` is false (centroidal.hpp: the columns of A_G) takes the forces
-/// alone: no entry of H is computed.
+/// alone: no entry of H is computed. A sink whose `sums_roots` is true (both of those) also receives, between the
+/// composite inertias and the forces, `sink.roots(Σ ⁱX_0ᵀ Iᶜᵢ ⁱX_0)`: the composite inertias of the roots (bodies
+/// whose parent is the base) moved to base coordinates and summed, i.e. the whole tree's inertia there.
 template <bool Simd = true, class S, class T, class Sink = NoForceSink>
 void crba_impl(const Model<S, T>& model, Data<S, T>& data, Sink&& sink = Sink{}) {
   constexpr bool Out = std::decay_t<Sink>::active;
@@ -510,11 +513,16 @@ void crba_impl(const Model<S, T>& model, Data<S, T>& data, Sink&& sink = Sink{})
     data.X_base[k] = p >= 0 ? data.X_up[k] * data.X_base[static_cast<std::size_t>(p)] : data.X_up[k];
     data.S_base[k] = model.joint(I).subspace_inverse(data.X_base[k]);
   });
+  constexpr bool Roots = std::decay_t<Sink>::sums_roots;
+  [[maybe_unused]] Inertia<S> roots;
+  if constexpr (Roots) roots = Inertia<S>::Zero();
   for_each_body_reverse(model, [&](auto I) {
     const auto k = static_cast<std::size_t>(int(I));
     const int p = model.parent(I);
     if (p >= 0) data.Ic[static_cast<std::size_t>(p)] += data.Ic[k].transformed_inverse(data.X_up[k]);
+    else if constexpr (Roots) roots += data.Ic[k].transformed_inverse(data.X_up[k]);
   });
+  if constexpr (Roots) sink.roots(roots);
   for_each_body(model, [&](auto I) {
     const int i = I;
     const auto k = static_cast<std::size_t>(i);

@@ -227,14 +227,17 @@ void mark_subtree(const Model<S, T>& model, Data<S, T>& data, int body) {
 
 /// `crba_impl`'s sink for A_G (no entry of H is computed): column offset + i of A_G (linear first) takes body i's
 /// Fᵢ⁰ = ⁱX_0ᵀ Iᶜᵢ Sᵢ, the subtree's momentum for a unit rate of joint i, in base coordinates about the base origin;
-/// `centroidal_columns` then moves it to the centroidal frame.
-template <class AG>
+/// `centroidal_columns` then moves it to the centroidal frame. `*total` takes the whole tree's inertia in base
+/// coordinates (the roots' composite inertias moved there and summed).
+template <class S, class AG>
 struct MomentumColumns {
   static constexpr bool active = true;
   static constexpr bool entries = false;
+  static constexpr bool sums_roots = true;
   AG& Ag;
   int offset;
-  template <class S>
+  Inertia<S>* total;
+  SPATIAL_INLINE void roots(const Inertia<S>& sum) const { *total = sum; }
   SPATIAL_INLINE void operator()(int i, const Force<S>& F0) const {
     Ag.template block<3, 1>(0, offset + i) = F0.f;
     Ag.template block<3, 1>(3, offset + i) = F0.n;
@@ -249,14 +252,8 @@ template <class S, class T, class Q, class AG>
 Inertia<S> base_momentum_columns(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>& q,
                                  int offset, AG& Ag) {
   crba_inputs(model, data, q);
-  crba_impl(model, data, MomentumColumns<AG>{Ag, offset});
   Inertia<S> total = Inertia<S>::Zero();
-  for_each_body(model, [&](auto I) {
-    if (model.parent(I) < 0) {
-      const auto k = static_cast<std::size_t>(int(I));
-      total += data.Ic[k].transformed_inverse(data.X_base[k]);
-    }
-  });
+  crba_impl(model, data, MomentumColumns<S, AG>{Ag, offset, &total});
   return total;
 }
 

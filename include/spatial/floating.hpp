@@ -529,7 +529,11 @@ template <class S, class T>
 struct FreeFlyerColumns {
   static constexpr bool active = true;
   static constexpr bool entries = true;
+  static constexpr bool sums_roots = true;
   FloatingData<S, T>& data;
+  /// The tree's inertia in root coordinates (its roots' composite inertias moved there and summed): Iᶜ₀ without the
+  /// root body, which `crba_floating_finish` adds.
+  SPATIAL_INLINE void roots(const Inertia<S>& sum) const { data.Ic0 = sum; }
   /// Hᵢⱼ of the tree (j = i or an ancestor of i) into the joints' block, both triangles.
   SPATIAL_INLINE void entry(int i, int j, S hij) const {
     data.H(6 + i, 6 + j) = hij;
@@ -568,15 +572,7 @@ void crba_floating(const FloatingModel<S, T>& model, FloatingData<S, T>& data) {
 
 template <class S, class T>
 void crba_floating_finish(const FloatingModel<S, T>& model, FloatingData<S, T>& data) {
-  const auto& tree = model.tree();
-  auto& td = data.tree;
-  data.Ic0 = model.root_inertia();
-  for_each_body(tree, [&](auto I) {
-    if (tree.parent(I) < 0) {
-      const auto k = static_cast<std::size_t>(int(I));
-      data.Ic0 += td.Ic[k].transformed_inverse(td.X_up[k]);
-    }
-  });
+  data.Ic0 += model.root_inertia();  // the tree's part came from the sink
   const Inertia<S>& Ic = data.Ic0;
   const Matrix3<S> hx = skew(Ic.h);
   data.H.template block<3, 3>(0, 0) = Ic.m * Matrix3<S>::Identity();

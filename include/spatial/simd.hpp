@@ -677,6 +677,7 @@ void crba(const Model<S, T>& model, Data<S, T>& data, Sink& sink) {
   constexpr int NB = Static ? Model<S, T>::NB : 1;
   constexpr bool Out = std::decay_t<Sink>::active;
   constexpr bool Entries = std::decay_t<Sink>::entries;
+  constexpr bool Roots = std::decay_t<Sink>::sums_roots;
   struct Body {
     LocalTransform<S> up;  // ⁱX_λ
     V col[3], row[3], r;   // ⁱX_0
@@ -688,6 +689,10 @@ void crba(const Model<S, T>& model, Data<S, T>& data, Sink& sink) {
   Body* b = local;
   if constexpr (Static) keep_in_memory(b);
   else b = records<Body>(data, model.size());
+  struct {
+    V ih = zero<V>(), ic[3] = {zero<V>(), zero<V>(), zero<V>()};
+    S im = S(0);
+  } root;  // Roots: Σ over the roots of ⁱX_0ᵀ Iᶜᵢ ⁱX_0
 
   auto forward = [&](auto I, auto KC) SPATIAL_LAMBDA_INLINE {
     const int i = I;
@@ -722,6 +727,13 @@ void crba(const Model<S, T>& model, Data<S, T>& data, Sink& sink) {
       for (int c = 0; c < 3; ++c) P.ic[c] = add(P.ic[c], ic[c]);
       P.ih = add(P.ih, h);
       P.im += B.im;
+    } else if constexpr (Roots) {
+      // A root's ⁱX_λ is ⁱX_0: its composite inertia in base coordinates, summed over the roots for the sink.
+      V h, ic[3];
+      transformed_inertia<S>(B.up.col, B.up.row, B.up.r, B.im, B.ih, B.ic, h, ic);
+      for (int c = 0; c < 3; ++c) root.ic[c] = add(root.ic[c], ic[c]);
+      root.ih = add(root.ih, h);
+      root.im += B.im;
     }
   };
 
@@ -769,6 +781,18 @@ void crba(const Model<S, T>& model, Data<S, T>& data, Sink& sink) {
 
   bodies(model, forward);
   bodies_reverse(model, backward);
+  if constexpr (Roots) {
+    Inertia<S> total;
+    total.m = root.im;
+    store4(total.h.data(), root.ih);
+    store4(total.I.data(), root.ic[0]);
+    store4(total.I.data() + 3, root.ic[1]);
+    store3(total.I.data() + 6, root.ic[2]);
+    // The lanes' congruences leave Ī symmetric only to rounding; H's root block must be exactly symmetric.
+    const Matrix3<S> I = total.I;
+    total.I = S(0.5) * (I + I.transpose());
+    sink.roots(total);
+  }
   bodies(model, entries);
 }
 
