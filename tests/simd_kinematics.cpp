@@ -6,8 +6,10 @@
 // joint a RevoluteAxis joint about the same axis: the scalar path), on the HOAP-3 models and random trees, fixed and
 // floating; so are the functions built on them (CoM Jacobian, A_G). The one-walk Jacobians are also written into a
 // block of a larger matrix (outer stride ≠ 6), which takes the scalar walk; a run-time chain deeper than the walk's
-// stack arrays takes it too. A_G is also computed into such a block, where its columns are moved to the CoM one by
-// one rather than four lanes at a time.
+// stack arrays takes it too. The Jacobians taken from the world columns (`body_jacobian`, `frame_jacobian`) move
+// them to the body's or frame's origin in lanes (simd::jacobian_column_at) and are compared with the one-walk ones.
+// A_G is also computed into such a block, where its columns are moved to the CoM one by one rather than four lanes
+// at a time.
 #include "support/simd_compare.hpp"
 
 #include <spatial/models/hoap3_floating.hpp>

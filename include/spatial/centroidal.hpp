@@ -263,11 +263,8 @@ Inertia<S> base_momentum_columns(const Model<S, T>& model, Data<S, T>& data, con
 template <class S, class AG>
 void centroidal_columns(const Transform<S>& XG, int offset, int n, AG& Ag) {
 #if SPATIAL_SIMD_AVX2
-  constexpr bool lanes = std::is_same_v<S, double> || std::is_same_v<S, float>;
-  constexpr int flags = int(AG::Flags);
-  if constexpr (lanes && (flags & Eigen::DirectAccessBit) && !(flags & Eigen::RowMajorBit) &&
-                int(AG::InnerStrideAtCompileTime) == 1) {
-    if (Ag.derived().outerStride() == 6) {
+  if constexpr (lane_columns<AG>()) {
+    if (lane_columns(Ag)) {
       simd::move_force_columns(XG, Ag.derived().data(), offset, n);
       return;
     }

@@ -318,13 +318,23 @@ void jacobian_from_world_at(const K& k, int body, const Vector3<typename Out::Sc
   const auto& J0 = k.data.J;
   if (rf == ReferenceFrame::World) {
     for_each_ancestor_column(k, body, [&](int c) { J.col(c) = J0.col(c); });
-  } else {
-    for_each_ancestor_column(k, body, [&](int c) {
-      const Vector3<S> w = J0.template block<3, 1>(3, c);
-      J.template block<3, 1>(0, c) = add3(Vector3<S>(J0.template block<3, 1>(0, c)), cross3(w, p));
-      J.template block<3, 1>(3, c) = w;
-    });
+    return;
   }
+#if SPATIAL_SIMD_AVX2
+  if constexpr (lane_columns<Out>()) {
+    if (lane_columns(J)) {
+      const auto pv = simd::load3(p.data());
+      S* out = J.derived().data();
+      for_each_ancestor_column(k, body, [&](int c) { simd::jacobian_column_at(J0.data(), pv, out, c); });
+      return;
+    }
+  }
+#endif
+  for_each_ancestor_column(k, body, [&](int c) {
+    const Vector3<S> w = J0.template block<3, 1>(3, c);
+    J.template block<3, 1>(0, c) = add3(Vector3<S>(J0.template block<3, 1>(0, c)), cross3(w, p));
+    J.template block<3, 1>(3, c) = w;
+  });
 }
 
 /// d/dt of the Jacobian of frame F (ᶠX_w = Xfw) on `body` from data.J and data.dJ.
@@ -461,10 +471,8 @@ void jacobian_walk(const K& k, const Eigen::MatrixBase<Q>& q, int body, Transfor
   J.setZero();
 #if SPATIAL_SIMD_AVX2
   using TreeT = typename std::decay_t<decltype(k.tree)>::tree_type;
-  if constexpr (simd_candidate<S, TreeT>() && (int(Out::Flags) & Eigen::DirectAccessBit) && !Out::IsRowMajor &&
-                Out::InnerStrideAtCompileTime == 1 &&
-                (Out::RowsAtCompileTime == 6 || Out::RowsAtCompileTime == Eigen::Dynamic)) {
-    if (J.rows() == 6 && J.derived().outerStride() == 6 && simd_applies(k.tree) && simd_walk_fits(k.tree, body)) {
+  if constexpr (simd_candidate<S, TreeT>() && lane_columns<Out>()) {
+    if (lane_columns(J) && simd_applies(k.tree) && simd_walk_fits(k.tree, body)) {
       jacobian_walk_simd(k, q, body, X, rf, J.derived().data());
       return;
     }

@@ -75,6 +75,23 @@ bool simd_applies(const Model<S, T>& model) {
   else return (void)model, false;
 }
 
+/// Whether the lane routines that write 6-row columns in place (Jacobians, A_G) may take an output of Eigen type M:
+/// double or float entries, column-major, contiguous columns; the caller still checks at run time that M has 6 rows
+/// and a column stride of 6.
+template <class M>
+constexpr bool lane_columns() {
+  using S = typename M::Scalar;
+  constexpr int flags = int(M::Flags);
+  return SPATIAL_SIMD_AVX2 && (std::is_same_v<S, double> || std::is_same_v<S, float>) &&
+         (flags & Eigen::DirectAccessBit) && !(flags & Eigen::RowMajorBit) && int(M::InnerStrideAtCompileTime) == 1 &&
+         (int(M::RowsAtCompileTime) == 6 || int(M::RowsAtCompileTime) == int(Eigen::Dynamic));
+}
+template <class M>
+bool lane_columns(const Eigen::MatrixBase<M>& x) {
+  if constexpr (lane_columns<M>()) return x.rows() == 6 && x.derived().outerStride() == 6;
+  else return (void)x, false;
+}
+
 #if SPATIAL_SIMD_AVX2
 /// Forces inlining of a lambda's body into its caller (GCC otherwise keeps some per-body lambdas out of line).
 #ifndef SPATIAL_NO_FORCED_INLINE
@@ -665,6 +682,17 @@ SPATIAL_INLINE void move_force_columns(const Transform<S>& X, S* A, int offset, 
     store4(col, fo);
     store3(col + 3, no);
   }
+}
+
+/// Column c of a 6-row column-major Jacobian (rows linear first) from column c of the world columns J0 (same
+/// layout), moved to the point p (world coordinates, in lanes: `load3(p.data())`): [v + ω × p; ω] for [v; ω].
+template <class S>
+SPATIAL_INLINE void jacobian_column_at(const S* J0, Vec<S> p, S* J, int c) {
+  using V = Vec<S>;
+  const V w = load3(J0 + 6 * c + 3);
+  const V v = add(load3z(J0 + 6 * c), cross(w, p));
+  store4(J + 6 * c, v);  // its fourth lane (0) is overwritten by ω next
+  store3(J + 6 * c + 3, w);
 }
 
 /// crba_impl's AVX2 path: the same three passes and the same outputs in `data` (X_up, X_base, S_base, Ic, H). The
