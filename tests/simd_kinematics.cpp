@@ -7,12 +7,15 @@
 // floating; so are the functions built on them (CoM Jacobian, A_G). The one-walk Jacobians are also written into a
 // block of a larger matrix (outer stride ≠ 6), which takes the scalar walk; a run-time chain deeper than the walk's
 // stack arrays takes it too. The Jacobians taken from the world columns (`body_jacobian`, `frame_jacobian`) move
-// them to the body's or frame's origin in lanes (simd::jacobian_column_at) and are compared with the one-walk ones.
+// them to the body's or frame's origin in lanes (simd::jacobian_column_at) and are compared with the one-walk ones;
+// both write into matrices filled with NaN first, so a column left unwritten (rather than zeroed) fails.
 // A_G is also computed into such a block, where its columns are moved to the CoM one by one rather than four lanes
 // at a time.
 #include "support/simd_compare.hpp"
 
 #include <spatial/models/hoap3_floating.hpp>
+
+#include <limits>
 
 namespace {
 using namespace spatial;
@@ -23,7 +26,7 @@ constexpr ReferenceFrame kFrames[] = {ReferenceFrame::Local, ReferenceFrame::Wor
 
 template <class A, class B>
 double max_diff(const Eigen::MatrixBase<A>& a, const Eigen::MatrixBase<B>& b) {
-  return double((a - b).cwiseAbs().maxCoeff());
+  return double((a - b).cwiseAbs().template maxCoeff<Eigen::PropagateNaN>());  // a NaN left in `a` fails
 }
 
 /// Every output of the kinematics on a model M (AVX2: compile-time, or its run-time twin) and its scalar twin R, at q.
@@ -54,9 +57,12 @@ void compare_kinematics(const M& m, const R& r, DM& dm, DR& dr, const Q& q, int 
   // One-walk Jacobians of every body (and the base/root) and every frame, in the three reference frames; into a
   // 6 × nv matrix (AVX2 walk) and into a block of a larger one (scalar walk on the same compile-time tree).
   MX Js(6, nv), Jb(6, nv), big(9, nv + 2), Jref(6, nv);
+  const S kNaN = std::numeric_limits<S>::quiet_NaN();
   for (ReferenceFrame rf : kFrames) {
     for (int b = -1; b < tree.size(); ++b) {
       compute_body_jacobian(r, dr, qd, b, rf, Jref);
+      Js.setConstant(kNaN);  // every entry must be written, the zero columns too
+      Jb.setConstant(kNaN);
       compute_body_jacobian(m, dm, q, b, rf, Js);
       big.setConstant(S(7));
       compute_body_jacobian(m, dm, q, b, rf, big.block(2, 1, 6, nv));
@@ -69,6 +75,8 @@ void compare_kinematics(const M& m, const R& r, DM& dm, DR& dr, const Q& q, int 
     }
     for (int f = 0; f < static_cast<int>(tree.frames().size()); ++f) {
       compute_frame_jacobian(r, dr, qd, f, rf, Jref);
+      Js.setConstant(kNaN);
+      Jb.setConstant(kNaN);
       compute_frame_jacobian(m, dm, q, f, rf, Js);
       EXPECT_LE(max_diff(Js, Jref), tol * scale) << "frame " << tree.frames()[std::size_t(f)].name;
       frame_jacobian(m, dm, f, rf, Jb);

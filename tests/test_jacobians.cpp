@@ -29,6 +29,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <map>
 #include <random>
 #include <string>
@@ -183,16 +184,20 @@ Iso pose_at(const M& m, D& d, const Vec& q, bool frame, int b) {
   return pose(m, d, frame, b);
 }
 
+/// A 6 × n output filled with NaN: every entry the functions under test leave unwritten (a column that should be
+/// zero, not only left alone) fails the comparisons below.
+Mat not_written(int n) { return Mat::Constant(6, n, std::numeric_limits<double>::quiet_NaN()); }
+
 template <class M, class D>
 Mat jacobian(const M& m, const D& d, bool frame, int b, ReferenceFrame rf) {
-  Mat J(6, nv(m));
+  Mat J = not_written(nv(m));
   if (frame) frame_jacobian(m, d, b, rf, J);
   else body_jacobian(m, d, b, rf, J);
   return J;
 }
 template <class M, class D>
 Mat jacobian_dot(const M& m, const D& d, bool frame, int b, ReferenceFrame rf) {
-  Mat J(6, nv(m));
+  Mat J = not_written(nv(m));
   if (frame) frame_jacobian_time_variation(m, d, b, rf, J);
   else body_jacobian_time_variation(m, d, b, rf, J);
   return J;
@@ -239,7 +244,7 @@ void check_model(const M& m, D& d, unsigned seed, int states, const std::string&
         // Consistency: J(rf) = X(rf) J(World) with X from the pose.
         EXPECT_LT(err("frames_consistent", Jrf[r], world_to(rf, P0) * Jrf[1]), 1e-12) << at << " " << tag;
         // One walk = all joints then select.
-        Mat Jw(6, n);
+        Mat Jw = not_written(n);
         if (is_frame) compute_frame_jacobian(m, d, q, b, rf, Jw);
         else compute_body_jacobian(m, d, q, b, rf, Jw);
         EXPECT_LT(err("compute_vs_from_joint_jacobians", Jw, Jrf[r]), 1e-12) << at << " " << tag;

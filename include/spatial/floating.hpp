@@ -521,7 +521,7 @@ void rnea_floating(const FloatingModel<S, T>& model, FloatingData<S, T>& data, c
 /// The floating-base rows and columns of H after the tree's CRBA (RBDA §9.4): Iᶜ₀ = I₀ + Σ_children ʲX₀ᵀ Iᶜⱼ ʲX₀,
 /// H₀₀ = Iᶜ₀ (linear first: [m1 h̃ᵀ; h̃ Ī]), H₀ⱼ = Fⱼ in root coordinates (Fⱼ = Iᶜⱼ Sⱼ), and the tree's H.
 template <class S, class T>
-void crba_floating_finish(const FloatingModel<S, T>& model, FloatingData<S, T>& data);
+void crba_floating_finish(const FloatingModel<S, T>& model, FloatingData<S, T>& data, const Inertia<S>& tree);
 
 /// The floating H from the tree's CRBA: `crba_impl` hands the joints' entries and every body's Fⱼ⁰ (the free-flyer's
 /// columns) here, in place of the tree's own `data.tree.H` (not written).
@@ -533,7 +533,8 @@ struct FreeFlyerColumns {
   FloatingData<S, T>& data;
   /// The tree's inertia in root coordinates (its roots' composite inertias moved there and summed): Iᶜ₀ without the
   /// root body, which `crba_floating_finish` adds.
-  SPATIAL_INLINE void roots(const Inertia<S>& sum) const { data.Ic0 = sum; }
+  Inertia<S>& tree;
+  SPATIAL_INLINE void roots(const Inertia<S>& sum) const { tree = sum; }
   /// Hᵢⱼ of the tree (j = i or an ancestor of i) into the joints' block, both triangles.
   SPATIAL_INLINE void entry(int i, int j, S hij) const {
     data.H(6 + i, 6 + j) = hij;
@@ -566,13 +567,14 @@ struct RootSolve {
 /// The tree's CRBA with the free-flyer's columns (see `crba_floating_finish`).
 template <bool Simd = true, class S, class T>
 void crba_floating(const FloatingModel<S, T>& model, FloatingData<S, T>& data) {
-  crba_impl<Simd>(model.tree(), data.tree, FreeFlyerColumns<S, T>{data});
-  crba_floating_finish(model, data);
+  Inertia<S> tree;
+  crba_impl<Simd>(model.tree(), data.tree, FreeFlyerColumns<S, T>{data, tree});
+  crba_floating_finish(model, data, tree);
 }
 
 template <class S, class T>
-void crba_floating_finish(const FloatingModel<S, T>& model, FloatingData<S, T>& data) {
-  data.Ic0 += model.root_inertia();  // the tree's part came from the sink
+void crba_floating_finish(const FloatingModel<S, T>& model, FloatingData<S, T>& data, const Inertia<S>& tree) {
+  data.Ic0 = tree + model.root_inertia();
   const Inertia<S>& Ic = data.Ic0;
   const Matrix3<S> hx = skew(Ic.h);
   data.H.template block<3, 3>(0, 0) = Ic.m * Matrix3<S>::Identity();

@@ -721,6 +721,22 @@ void crba(const Model<S, T>& model, Data<S, T>& data, Sink& sink) {
     V ih = zero<V>(), ic[3] = {zero<V>(), zero<V>(), zero<V>()};
     S im = S(0);
   } root;  // Roots: Σ over the roots of ⁱX_0ᵀ Iᶜᵢ ⁱX_0
+  // A composite inertia held in lanes (m, h, the columns of Ī), written out as an Inertia.
+  auto store_inertia = [](S m, V h, const V (&ic)[3], Inertia<S>& out) SPATIAL_LAMBDA_INLINE {
+    out.m = m;
+    store4(out.h.data(), h);
+    store4(out.I.data(), ic[0]);
+    store4(out.I.data() + 3, ic[1]);
+    store3(out.I.data() + 6, ic[2]);
+  };
+  // ⁱX_λᵀ Iᶜᵢ ⁱX_λ added into another composite inertia's lanes (the parent's, or the roots' sum).
+  auto add_moved = [](const Body& B, S& im, V& ih, V (&ic)[3]) SPATIAL_LAMBDA_INLINE {
+    V h, c[3];
+    transformed_inertia<S>(B.up.col, B.up.row, B.up.r, B.im, B.ih, B.ic, h, c);
+    for (int k = 0; k < 3; ++k) ic[k] = add(ic[k], c[k]);
+    ih = add(ih, h);
+    im += B.im;
+  };
 
   auto forward = [&](auto I, auto KC) SPATIAL_LAMBDA_INLINE {
     const int i = I;
@@ -741,27 +757,13 @@ void crba(const Model<S, T>& model, Data<S, T>& data, Sink& sink) {
     const auto k = static_cast<std::size_t>(i);
     const Body& B = b[i];
     // Iᶜᵢ is complete: write it out.
-    Inertia<S>& out = data.Ic[k];
-    out.m = B.im;
-    store4(out.h.data(), B.ih);
-    store4(out.I.data(), B.ic[0]);
-    store4(out.I.data() + 3, B.ic[1]);
-    store3(out.I.data() + 6, B.ic[2]);
+    store_inertia(B.im, B.ih, B.ic, data.Ic[k]);
     if (p >= 0) {
-      // ⁱX_λᵀ Iᶜ ⁱX_λ, added into the parent's.
-      V h, ic[3];
-      transformed_inertia<S>(B.up.col, B.up.row, B.up.r, B.im, B.ih, B.ic, h, ic);
       Body& P = b[p];
-      for (int c = 0; c < 3; ++c) P.ic[c] = add(P.ic[c], ic[c]);
-      P.ih = add(P.ih, h);
-      P.im += B.im;
+      add_moved(B, P.im, P.ih, P.ic);
     } else if constexpr (Roots) {
       // A root's ⁱX_λ is ⁱX_0: its composite inertia in base coordinates, summed over the roots for the sink.
-      V h, ic[3];
-      transformed_inertia<S>(B.up.col, B.up.row, B.up.r, B.im, B.ih, B.ic, h, ic);
-      for (int c = 0; c < 3; ++c) root.ic[c] = add(root.ic[c], ic[c]);
-      root.ih = add(root.ih, h);
-      root.im += B.im;
+      add_moved(B, root.im, root.ih, root.ic);
     }
   };
 
@@ -811,11 +813,7 @@ void crba(const Model<S, T>& model, Data<S, T>& data, Sink& sink) {
   bodies_reverse(model, backward);
   if constexpr (Roots) {
     Inertia<S> total;
-    total.m = root.im;
-    store4(total.h.data(), root.ih);
-    store4(total.I.data(), root.ic[0]);
-    store4(total.I.data() + 3, root.ic[1]);
-    store3(total.I.data() + 6, root.ic[2]);
+    store_inertia(root.im, root.ih, root.ic, total);
     // The lanes' congruences leave Ī symmetric only to rounding; H's root block must be exactly symmetric.
     const Matrix3<S> I = total.I;
     total.I = S(0.5) * (I + I.transpose());
