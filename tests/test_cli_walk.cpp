@@ -1,6 +1,7 @@
 // spatial-dyn walk: a one-step walk through the tool against the same walk through the library (the CSV's numbers bit
 // for bit: the tool writes the shortest text that reads back as the same double), the CSV's columns and their
-// consistency (unit quaternions, no force on a sole out of contact), walk.json's verdict, and the errors.
+// consistency (unit quaternions, no force on a sole out of contact), walk.json's verdict, an unreachable plan (reported,
+// valid JSON), and the errors.
 
 #include <gtest/gtest.h>
 
@@ -11,6 +12,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <regex>
 #include <string>
 #include <vector>
 
@@ -40,6 +42,10 @@ TEST(CliWalk, OneStepMatchesTheLibrary) {
   const std::string json = slurp(dir.file("w/walk.json"));
   EXPECT_NE(json.find("\"walked\": true"), std::string::npos) << json;
   EXPECT_NE(json.find("\"steps\": 1,"), std::string::npos);
+  EXPECT_NE(json.find("\"ik_not_converged\": 0,"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"ik_first_failure_t\": null,"), std::string::npos) << json;
+  EXPECT_EQ(r.err.find("not reachable"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--length and --turn have no effect"), std::string::npos) << r.err;  // one step: in place
 
   // the same walk through the library
   wk::GaitParameters<double> g;
@@ -82,6 +88,29 @@ TEST(CliWalk, OneStepMatchesTheLibrary) {
   }
   const std::size_t last = csv.rows.size() - 1;
   EXPECT_NEAR(csv.number(last, "pelvis:x"), csv.number(last, "pelvis_plan:x"), 0.01);
+}
+
+/// Whether `json` holds a NaN or an infinity where a number belongs (JSON has neither: readers refuse the file).
+bool has_non_finite(const std::string& json) {
+  static const std::regex bad(R"((^|[:,\[\s])[-+]?(nan|inf)([\s,\]}]|$))", std::regex::icase);
+  return std::regex_search(json, bad);
+}
+
+// Steps far too long for the HOAP-3's legs: the whole-body IK cannot follow the plan, and the walk's figures diverge.
+// The tool still writes its files (the verdict is "did not walk"), but says why on stderr and in walk.json (how many
+// ticks the IK missed, the first one), and walk.json stays valid JSON: the diverged figures are null, not nan.
+TEST(CliWalk, UnreachablePlanIsReported) {
+  ScratchDir dir("cli_walk_unreachable");
+  const RunResult r = dyn({"walk", "--steps", "2", "--length", "0.25", "--out", dir.file("w")});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("not reachable"), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("did NOT walk"), std::string::npos) << r.out;
+  const std::string json = slurp(dir.file("w/walk.json"));
+  EXPECT_NE(json.find("\"walked\": false"), std::string::npos) << json;
+  EXPECT_EQ(json.find("\"ik_not_converged\": 0,"), std::string::npos) << json;
+  EXPECT_EQ(json.find("\"ik_first_failure_t\": null"), std::string::npos) << json;
+  EXPECT_FALSE(has_non_finite(json)) << json;
+  EXPECT_TRUE(has_non_finite("{\"a\": nan}") && has_non_finite("[1, -inf]") && !has_non_finite("{\"info\": 1}"));
 }
 
 TEST(CliWalk, RejectsBadOptions) {

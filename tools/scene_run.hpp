@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -25,6 +26,8 @@ inline constexpr double kStudyFyWhole = 5.5;      // N, horizontal component at 
 namespace run_detail {
 
 inline std::string num(double x) { return cli::format_double(x); }
+/// A number in JSON, which has no NaN or infinity: those (a diverged run's figures) are written as null.
+inline std::string json_num(double x) { return std::isfinite(x) ? num(x) : "null"; }
 
 inline std::string json_str(const std::string& s) {
   std::string o = "\"";

@@ -6,7 +6,7 @@
 // tools/plot_walk.py, the PNGs. Not part of the installed library.
 
 #include "cli_common.hpp"
-#include "scene_run.hpp"  // run_detail::num, json_str
+#include "scene_run.hpp"  // run_detail::num, json_num, json_str
 
 #include <spatial/models/hoap3_floating.hpp>
 #include <spatial/walking.hpp>
@@ -15,6 +15,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <string>
 
@@ -35,6 +36,7 @@ inline const char* foot_name(walking::Foot f) { return f == walking::Foot::left 
 /// Runs the walk of `req` and writes DIR/walk.csv and DIR/walk.json; returns the closed-loop summary's `walked`.
 inline bool run_walk(const WalkRequest& req) {
   using scenes::run_detail::json_str;
+  using scenes::run_detail::json_num;
   using scenes::run_detail::num;
   using FM = FloatingModel<double>;
   const FM model = fb::floating_model().to_runtime();
@@ -45,6 +47,10 @@ inline bool run_walk(const WalkRequest& req) {
   if (req.com_height > 0) options.preview.com_height = req.com_height;
   if (req.double_pendulum) options.second_stage_zmp = walking::SecondStageZmp::double_pendulum;
   const walking::FootstepPlan<double> plan(req.gait);  // validates (std::invalid_argument names the parameter)
+  if (req.gait.steps == 1)
+    std::fprintf(stderr, "walk: note: a walk advances (N - 1) step lengths (its last step closes the feet): with "
+                         "--steps 1 the one step puts the swing foot back beside the other, --length and --turn "
+                         "have no effect\n");
   const auto open = walking::run_whole_body(model, frames, ik_limits(fb::lower), ik_limits(fb::upper), plan, options);
   const walking::ClosedLoopOptions<double> copt;
   const auto closed = walking::run_closed_loop(model, frames, plan, open, options, copt);
@@ -103,60 +109,73 @@ inline bool run_walk(const WalkRequest& req) {
   const auto& g = req.gait;
   Eigen::VectorXd tau_max = Eigen::VectorXd::Zero(nj);
   for (const auto& s : closed.samples) tau_max = tau_max.cwiseMax(s.tau.cwiseAbs());
+  // The whole-body IK of the open loop: a tick where it did not converge (an unreachable plan: steps too long for the
+  // legs, a CoM too high) makes every later figure meaningless; walk.json and the output say so.
+  const auto& os = open.summary;
+  double ik_first_failure = std::numeric_limits<double>::quiet_NaN();  // null in walk.json when every tick converged
+  for (const auto& o : open.samples)
+    if (!o.ik.converged) {
+      ik_first_failure = o.t;
+      break;
+    }
   double open_seconds = 0;
   for (const auto& p : open.summary.passes) open_seconds += p.seconds;
   std::ostringstream js;
   js << "{\n  \"robot\": \"hoap3_floating\",\n  \"parameters\": {\"steps\": " << g.steps << ", \"length\": "
-     << num(g.step_length) << ", \"width\": " << num(g.step_width) << ", \"period\": " << num(g.period)
-     << ", \"double_support\": " << num(g.double_support_ratio) << ", \"turn\": " << num(g.turn)
-     << ", \"swing_height\": " << num(g.swing_height) << ", \"com_height\": " << num(options.preview.com_height)
-     << ", \"control_dt\": " << num(options.preview.dt) << ", \"simulation_dt\": " << num(copt.simulation.dt)
+     << json_num(g.step_length) << ", \"width\": " << json_num(g.step_width) << ", \"period\": " << json_num(g.period)
+     << ", \"double_support\": " << json_num(g.double_support_ratio) << ", \"turn\": " << json_num(g.turn)
+     << ", \"swing_height\": " << json_num(g.swing_height) << ", \"com_height\": " << json_num(options.preview.com_height)
+     << ", \"control_dt\": " << json_num(options.preview.dt) << ", \"simulation_dt\": " << json_num(copt.simulation.dt)
      << ", \"second_stage_iterations\": " << req.second_stage << ", \"zmp_model\": \"" << (req.double_pendulum ? "double_pendulum" : "multibody")
      << "\", \"friction\": "
-     << num(options.friction) << ", \"pd_frequency\": " << num(copt.pd_frequency) << "},\n";
-  js << "  \"sole\": {\"front\": " << num(options.sole.front) << ", \"back\": " << num(options.sole.back)
-     << ", \"left\": " << num(options.sole.left) << ", \"right\": " << num(options.sole.right) << "},\n";
+     << json_num(options.friction) << ", \"pd_frequency\": " << json_num(copt.pd_frequency) << "},\n";
+  js << "  \"sole\": {\"front\": " << json_num(options.sole.front) << ", \"back\": " << json_num(options.sole.back)
+     << ", \"left\": " << json_num(options.sole.left) << ", \"right\": " << json_num(options.sole.right) << "},\n";
   js << "  \"footsteps\": [";
   bool first = true;
   const auto footstep = [&](const walking::Footstep<double>& f) {
-    js << (first ? "" : ", ") << "{\"foot\": \"" << foot_name(f.foot) << "\", \"x\": " << num(f.position.x())
-       << ", \"y\": " << num(f.position.y()) << ", \"yaw\": " << num(f.yaw) << "}";
+    js << (first ? "" : ", ") << "{\"foot\": \"" << foot_name(f.foot) << "\", \"x\": " << json_num(f.position.x())
+       << ", \"y\": " << json_num(f.position.y()) << ", \"yaw\": " << json_num(f.yaw) << "}";
     first = false;
   };
   for (const auto& f : plan.initial_feet()) footstep(f);
   for (const auto& f : plan.footsteps()) footstep(f);
-  js << "],\n  \"duration\": " << num(plan.duration()) << ",\n";
+  js << "],\n  \"duration\": " << json_num(plan.duration()) << ",\n";
   js << "  \"open_loop\": {\"passes\": [";
   for (std::size_t p = 0; p < open.summary.passes.size(); ++p) {
     const auto& ps = open.summary.passes[p];
-    js << (p ? ", " : "") << "{\"zmp_error_max\": " << num(ps.zmp_error_max) << ", \"zmp_error_rms\": "
-       << num(ps.zmp_error_rms) << ", \"zmp_error_ct_max\": " << num(ps.zmp_error_ct_max)
-       << ", \"min_margin\": " << num(ps.min_margin) << "}";
+    js << (p ? ", " : "") << "{\"zmp_error_max\": " << json_num(ps.zmp_error_max) << ", \"zmp_error_rms\": "
+       << json_num(ps.zmp_error_rms) << ", \"zmp_error_ct_max\": " << json_num(ps.zmp_error_ct_max)
+       << ", \"min_margin\": " << json_num(ps.min_margin) << "}";
   }
-  js << "], \"cart_table_error_max\": " << num(open.summary.cart_table_error_max)
-     << ", \"contact_ok\": " << open.summary.contact_ok << ", \"ticks\": " << open.summary.ticks << "},\n";
+  js << "], \"cart_table_error_max\": " << json_num(open.summary.cart_table_error_max)
+     << ", \"contact_ok\": " << open.summary.contact_ok << ", \"ticks\": " << open.summary.ticks
+     << ", \"ik_not_converged\": " << os.ik_not_converged << ", \"ik_first_failure_t\": " << json_num(ik_first_failure)
+     << ", \"ik_residual_max\": " << json_num(os.ik_residual_max) << ", \"ik_iterations_max\": " << os.ik_iterations_max
+     << ", \"foot_position_error_max\": " << json_num(os.foot_position_error_max)
+     << ", \"foot_rotation_error_max\": " << json_num(os.foot_rotation_error_max) << "},\n";
   js << "  \"closed_loop\": {\"walked\": " << (cs.walked ? "true" : "false") << ", \"steps_completed\": "
-     << cs.steps_completed << ", \"cop_min_margin\": " << num(cs.cop_min_margin)
-     << ", \"sole_cop_min_margin\": " << num(cs.sole_cop_min_margin) << ", \"min_normal_force\": "
-     << num(cs.min_normal_force) << ", \"pulls\": " << cs.pulls << ", \"max_friction_ratio\": "
-     << num(cs.max_friction_ratio) << ", \"slips\": " << cs.slips << ", \"pelvis_final_error\": "
-     << num(cs.pelvis_final_error) << ", \"pelvis_max_error\": " << num(cs.pelvis_max_error)
-     << ", \"com_max_error\": " << num(cs.com_max_error) << ", \"joint_error_max\": " << num(cs.joint_error_max)
-     << ", \"impacts\": " << cs.impacts << ", \"impact_energy_max\": " << num(cs.impact_energy_max)
+     << cs.steps_completed << ", \"cop_min_margin\": " << json_num(cs.cop_min_margin)
+     << ", \"sole_cop_min_margin\": " << json_num(cs.sole_cop_min_margin) << ", \"min_normal_force\": "
+     << json_num(cs.min_normal_force) << ", \"pulls\": " << cs.pulls << ", \"max_friction_ratio\": "
+     << json_num(cs.max_friction_ratio) << ", \"slips\": " << cs.slips << ", \"pelvis_final_error\": "
+     << json_num(cs.pelvis_final_error) << ", \"pelvis_max_error\": " << json_num(cs.pelvis_max_error)
+     << ", \"com_max_error\": " << json_num(cs.com_max_error) << ", \"joint_error_max\": " << json_num(cs.joint_error_max)
+     << ", \"impacts\": " << cs.impacts << ", \"impact_energy_max\": " << json_num(cs.impact_energy_max)
      << ", \"failed_steps\": " << cs.failed_steps << "},\n";
   js << "  \"torques\": [";
   for (int j = 0; j < nj; ++j) {
     const double rated = options.rated_torque[j], maximum = options.max_torque[j];
     js << (j ? ", " : "") << "{\"joint\": " << json_str(std::string(fb::joint_names[static_cast<std::size_t>(j)]))
-       << ", \"max\": " << num(tau_max[j]) << ", \"rated\": " << num(rated) << ", \"maximum\": " << num(maximum)
-       << ", \"rated_ratio\": " << num(tau_max[j] / rated) << ", \"max_ratio\": " << num(tau_max[j] / maximum) << "}";
+       << ", \"max\": " << json_num(tau_max[j]) << ", \"rated\": " << json_num(rated) << ", \"maximum\": " << json_num(maximum)
+       << ", \"rated_ratio\": " << json_num(tau_max[j] / rated) << ", \"max_ratio\": " << json_num(tau_max[j] / maximum) << "}";
   }
   const double tick_us = open.summary.tick_seconds_mean * 1e6;
   js << "],\n  \"timings\": {\"clock\": \"std::chrono::steady_clock wall time, run-time tree, one run on a shared "
         "machine (the benchmark spatial/WalkTick is the measured figure)\", \"open_loop_s\": "
-     << num(open_seconds) << ", \"closed_loop_s\": " << num(cs.seconds) << ", \"tick_us\": " << num(tick_us)
-     << ", \"tick_fraction\": " << num(tick_us * 1e-6 / options.preview.dt)
-     << ", \"simulation_step_us\": " << num(cs.step_seconds_mean * 1e6) << "}\n}\n";
+     << json_num(open_seconds) << ", \"closed_loop_s\": " << json_num(cs.seconds) << ", \"tick_us\": " << json_num(tick_us)
+     << ", \"tick_fraction\": " << json_num(tick_us * 1e-6 / options.preview.dt)
+     << ", \"simulation_step_us\": " << json_num(cs.step_seconds_mean * 1e6) << "}\n}\n";
 
   std::error_code ec;
   std::filesystem::create_directories(req.dir, ec);
@@ -176,6 +195,14 @@ inline bool run_walk(const WalkRequest& req) {
   std::printf("  open loop: multibody ZMP error max %.2f mm (first stage alone %.2f mm), %.1f us per tick\n",
               open.summary.passes.back().zmp_error_max * 1e3, open.summary.passes.front().zmp_error_max * 1e3,
               tick_us);
+  std::printf("  whole-body IK: %d of %d ticks not converged, foot position error max %.3g mm\n", os.ik_not_converged,
+              os.ticks, os.foot_position_error_max * 1e3);
+  if (os.ik_not_converged > 0)
+    std::fprintf(stderr,
+                 "walk: warning: the plan is not reachable: the whole-body IK did not converge at %d of %d ticks (the "
+                 "first at t = %.3f s; foot position error up to %.3g mm), so the figures of this walk are not "
+                 "meaningful; try shorter steps (--length), a lower CoM (--com-height) or a longer period\n",
+                 os.ik_not_converged, os.ticks, ik_first_failure, os.foot_position_error_max * 1e3);
   std::printf("  closed loop: CoP margin min %.1f mm, min normal force %.2f N, friction ratio max %.3f (mu %.2f), "
               "pelvis final error %.2f mm, pulls %d, slips %d\n",
               cs.cop_min_margin * 1e3, cs.min_normal_force, cs.max_friction_ratio, options.friction,
