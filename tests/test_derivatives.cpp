@@ -52,4 +52,37 @@ TEST(RneaDerivatives, RandomFloatingTreesOnTheManifoldAgainstFiniteDifferences) 
   }
 }
 
+// The RNEA derivatives carry W + Wᵀ (W = I (v×), summed over subtrees) as a symmetric 3 × 3 block and a 3-vector
+// (detail::VelocityCoupling); its product with a motion and its sums must equal the dense 6 × 6 form.
+TEST(RneaDerivatives, VelocityCouplingEqualsTheDenseSymmetricPart) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  auto motion = [&] { return Motion<double>(Vector3<double>(u(rng), u(rng), u(rng)), Vector3<double>(u(rng), u(rng), u(rng))); };
+  auto inertia = [&] {
+    const double m = 2.0 + u(rng);
+    return Inertia<double>::from_com(m, Vector3<double>(u(rng), u(rng), u(rng)), spatial::testing::random_inertia_com(rng, m));
+  };
+  detail::VelocityCoupling<double> sum = detail::VelocityCoupling<double>::Zero();
+  Matrix6<double> dense_sum = Matrix6<double>::Zero();
+  for (int body = 0; body < 4; ++body) {
+    const Inertia<double> I = inertia();
+    const Motion<double> v = motion();
+    const Matrix6<double> W = I.matrix() * cross_matrix(v);
+    const Matrix6<double> dense = W + W.transpose();
+    const auto c = detail::VelocityCoupling<double>::of(I, v);
+    EXPECT_LT((c.A - c.A.transpose()).cwiseAbs().maxCoeff(), 1e-15) << "A is symmetric";
+    sum += c;
+    dense_sum += dense;
+    for (int trial = 0; trial < 3; ++trial) {
+      const Motion<double> x = motion();
+      const Vector6<double> expect = dense * x.vector(), got = (c * x).vector();
+      EXPECT_LT((expect - got).cwiseAbs().maxCoeff(), 1e-12 * (1.0 + expect.cwiseAbs().maxCoeff()))
+          << "body " << body << ": " << got.transpose() << " against " << expect.transpose();
+    }
+  }
+  const Motion<double> x = motion();
+  const Vector6<double> expect = dense_sum * x.vector(), got = (sum * x).vector();
+  EXPECT_LT((expect - got).cwiseAbs().maxCoeff(), 1e-12 * (1.0 + expect.cwiseAbs().maxCoeff())) << "the subtree sum";
+}
+
 }  // namespace

@@ -31,7 +31,8 @@
 /// (`ForceFrame::Base`; zero for body-frame forces, which turn with their body) and Fⱼ′ = Fⱼ + Fˣⱼ. Per row i the
 /// code keeps Pᵢ = Iᶜᵢ Sᵢ and Qᵢ = Bᶜᵢᵀ Sᵢ, per column j the vectors αⱼ, βⱼ, Bᶜⱼ βⱼ …, so that each entry is one or
 /// two 6-vector dot products: one forward pass, one backward pass with a walk over each joint's ancestors (the
-/// sparsity of CRBA), no 6 × n blocks. Bᶜ = Wᶜ + Wᶜᵀ + h̄ᶜ, with Wᶜ = Σ Iₖ (vₖ×) and h̄ᶜ u = −u ×* Σ Iₖ vₖ.
+/// sparsity of CRBA), no 6 × n blocks. Bᶜ = Wᶜ + Wᶜᵀ + h̄ᶜ, with Wᶜ = Σ Iₖ (vₖ×) and h̄ᶜ u = −u ×* Σ Iₖ vₖ
+/// (Wᶜ + Wᶜᵀ has 9 independent numbers: `VelocityCoupling`).
 /// The free-flyer is the six columns Sᵦ = unit twists of the root (v_p = 0, a_p = −a_g), whose ∂a/∂v differs from
 /// a one-DoF joint's (the root's spatial acceleration is v̇ itself): ∂τᵢ/∂vᵦ = Sᵢᵀ(Iᶜᵢ (v₀ × Sᵦ) − Bᶜᵢ Sᵦ).
 ///
@@ -57,6 +58,41 @@ namespace spatial {
 
 namespace detail {
 
+/// The symmetric part of the subtree sum W = Σ Iₖ (vₖ×) (motion → force, angular first), W + Wᵀ, as 9 numbers
+/// instead of 36. For one body, with I = [Ī h̃; h̃ᵀ m1] and v× = [ω̃ 0; ṽ ω̃] (v = (ω, u)), using ã b̃ = b aᵀ − (a·b) 1:
+///   W = [Ī ω̃ + h̃ ṽ, h̃ ω̃; m ṽ − h̃ ω̃, m ω̃],   W + Wᵀ = [G + Gᵀ, k̃; −k̃, 0],
+/// G = Ī ω̃ + h̃ ṽ, k = h × ω − m u (ω̃ᵀ = −ω̃, h̃ ω̃ − ω̃ h̃ = (h × ω)~, and m ω̃ + m ω̃ᵀ = 0). Sums over subtrees keep
+/// that form, so each body carries a symmetric 3 × 3 block and a 3-vector, and a product with a motion is one 3 × 3
+/// product and two cross products instead of two dense 6 × 6 ones.
+template <class S>
+struct VelocityCoupling {
+  Matrix3<S> A;  ///< G + Gᵀ (symmetric)
+  Vector3<S> k;  ///< k = h × ω − m u
+
+  static SPATIAL_INLINE VelocityCoupling Zero() { return {Matrix3<S>::Zero(), Vector3<S>::Zero()}; }
+  /// The coupling of one body of inertia I (base coordinates) moving with velocity v.
+  static SPATIAL_INLINE VelocityCoupling of(const Inertia<S>& I, const Motion<S>& v) {
+    const Vector3<S>& w = v.w;
+    const Vector3<S>& u = v.v;
+    Matrix3<S> G = I.I * skew(w) + u * I.h.transpose();  // Ī ω̃ + h̃ ṽ without its −(h·u) 1
+    const S hu2 = S(2) * I.h.dot(u);
+    VelocityCoupling c;
+    c.A = G + G.transpose();
+    c.A.diagonal().array() -= hu2;
+    c.k = cross3(I.h, w) - I.m * u;
+    return c;
+  }
+  SPATIAL_INLINE VelocityCoupling& operator+=(const VelocityCoupling& o) {
+    A += o.A;
+    k = add3(k, o.k);
+    return *this;
+  }
+  /// (W + Wᵀ) x for a motion x = (ω, u): (A ω + k × u, ω × k).
+  SPATIAL_INLINE Force<S> operator*(const Motion<S>& x) const {
+    return Force<S>(add3(Vector3<S>(A * x.w), cross3(k, x.v)), cross3(x.w, k));
+  }
+};
+
 /// Per-body buffers of `rnea_derivatives` (base coordinates).
 template <class S, class T>
 struct DerivativeBodies {
@@ -67,8 +103,8 @@ struct DerivativeBodies {
   explicit DerivativeBodies(const ModelType& model) {
     if constexpr (!ModelType::is_static) {
       const auto k = static_cast<std::size_t>(model.size());
-      S0.resize(k); v.resize(k); a.resize(k); alpha.resize(k); beta.resize(k);
-      Ic.resize(k); W.resize(k); hc.resize(k); F.resize(k); Fx.resize(k);
+      S0.resize(k); v.resize(k); a.resize(k); alpha.resize(k); beta.resize(k); C.resize(k);
+      Ic.resize(k); M.resize(k); hc.resize(k); F.resize(k); Fx.resize(k);
     } else {
       (void)model;
     }
@@ -79,41 +115,15 @@ struct DerivativeBodies {
   Array<Motion<S>> a{};      ///< body acceleration minus gravity
   Array<Motion<S>> alpha{};  ///< αᵢ = Sᵢ × a_λ(i) + v_λ(i) × βᵢ
   Array<Motion<S>> beta{};   ///< βᵢ = Sᵢ × v_λ(i)
+  /// [Sᵢ βᵢ αᵢ] as the columns of one 6 × 3 matrix (angular rows first), for the walk over the ancestors, where one
+  /// row's four force-like vectors are paired with all three at once (`rnea_derivatives_tree`).
+  Array<Eigen::Matrix<S, 6, 3>> C{};
   Array<Inertia<S>> Ic{};    ///< subtree inertia
-  Array<Matrix6<S>> W{};     ///< Σ over the subtree of Iₖ (vₖ×)
+  Array<VelocityCoupling<S>> M{};  ///< W + Wᵀ, W = Σ over the subtree of Iₖ (vₖ×)
   Array<Force<S>> hc{};      ///< subtree momentum Σ Iₖ vₖ
   Array<Force<S>> F{};       ///< subtree force Σ (Iₖ aₖ + vₖ ×* Iₖ vₖ − fₖˣ)
   Array<Force<S>> Fx{};      ///< subtree external force fixed in the base frame (ForceFrame::Base only)
 };
-
-/// I (v×) as a 6 × 6 matrix (motion → force, angular first): with I = [Ī h̃; h̃ᵀ m1] and v× = [ω̃ 0; ṽ ω̃],
-/// [Ī ω̃ + h̃ ṽ, h̃ ω̃; −h̃ ω̃ + m ṽ, m ω̃], using ã b̃ = b aᵀ − (a·b) 1.
-template <class S>
-SPATIAL_INLINE void inertia_cross(const Inertia<S>& I, const Motion<S>& v, Matrix6<S>& out) {
-  const Vector3<S>& w = v.w;
-  const Vector3<S>& u = v.v;
-  const Matrix3<S> wx = skew(w);
-  const Matrix3<S> hw = w * I.h.transpose() - I.h.dot(w) * Matrix3<S>::Identity();  // h̃ ω̃
-  const Matrix3<S> hu = u * I.h.transpose() - I.h.dot(u) * Matrix3<S>::Identity();  // h̃ ṽ
-  out.template topLeftCorner<3, 3>() = I.I * wx + hu;
-  out.template topRightCorner<3, 3>() = hw;
-  out.template bottomLeftCorner<3, 3>() = I.m * skew(u) - hw;
-  out.template bottomRightCorner<3, 3>() = I.m * wx;
-}
-
-template <class S>
-SPATIAL_INLINE Force<S> mul6(const Matrix6<S>& M, const Motion<S>& m) {
-  Vector6<S> x;
-  x << m.w, m.v;
-  return Force<S>(Vector6<S>(M * x));
-}
-/// Mᵀ m for a motion → force matrix M, as a force-like vector (it pairs with motions: (Mᵀ m)·u = m·(M u)).
-template <class S>
-SPATIAL_INLINE Force<S> mul6_t(const Matrix6<S>& M, const Motion<S>& m) {
-  Vector6<S> x;
-  x << m.w, m.v;
-  return Force<S>(Vector6<S>(M.transpose() * x));
-}
 
 /// The free-flyer's column entries of row i (linear first) from Pᵢ, Qᵢ and Rᵢ = Sᵢ ×* Fˣᵢ: with Sᵦ the unit twists
 /// of the root, ∂τᵢ/∂qᵦ = −αᵦ·Pᵢ − Sᵦ·Rᵢ (αᵦ = Sᵦ × (0, −g)) and ∂τᵢ/∂vᵦ = −Sᵦ·Qᵢ + Pᵢ·(v₀ × Sᵦ).
@@ -138,7 +148,7 @@ struct DerivativeRoot {
   Motion<S> v = Motion<S>::Zero(), a = Motion<S>::Zero();
   // Floating only: the root body's subtree sums (the whole robot).
   Inertia<S> Ic = Inertia<S>::Zero();
-  Matrix6<S> W = Matrix6<S>::Zero();
+  VelocityCoupling<S> M = VelocityCoupling<S>::Zero();
   Force<S> hc = Force<S>::Zero(), F = Force<S>::Zero(), Fx = Force<S>::Zero();
 };
 
@@ -169,6 +179,7 @@ void rnea_derivatives_tree(const Model<S, T>& model, Data<S, T>& data, Derivativ
     b.a[k] = ap + Si * qdd + cross(b.v[k], Si) * qd;
     b.beta[k] = cross(Si, vp);
     b.alpha[k] = cross(Si, ap) + cross(vp, b.beta[k]);
+    b.C[k] << Si.w, b.beta[k].w, b.alpha[k].w, Si.v, b.beta[k].v, b.alpha[k].v;
     const Inertia<S> In = model.inertia(i).transformed_inverse(X0);
     const Force<S> h = In * b.v[k];
     b.F[k] = In * b.a[k] + cross(b.v[k], h);
@@ -182,7 +193,7 @@ void rnea_derivatives_tree(const Model<S, T>& model, Data<S, T>& data, Derivativ
     }
     b.Ic[k] = In;
     b.hc[k] = h;
-    inertia_cross(In, b.v[k], b.W[k]);
+    b.M[k] = VelocityCoupling<S>::of(In, b.v[k]);
   });
 
   for_each_body_reverse(model, [&](auto I) {
@@ -191,14 +202,14 @@ void rnea_derivatives_tree(const Model<S, T>& model, Data<S, T>& data, Derivativ
     const int p = model.parent(I);
     const Motion<S>& Si = b.S0[k];
     const Inertia<S>& Ic = b.Ic[k];
-    const Matrix6<S>& W = b.W[k];
+    const VelocityCoupling<S>& M = b.M[k];
     const Force<S> P = Ic * Si;
-    const Force<S> WS = mul6(W, Si), WtS = mul6_t(W, Si);
+    const Force<S> MS = M * Si;
     const Force<S> Sh = cross(Si, b.hc[k]);
-    const Force<S> Qr = WS + WtS + Sh;              // Bᶜᵀ S
-    const Force<S> BS = WS + WtS - Sh;              // Bᶜ S
+    const Force<S> Qr = MS + Sh;              // Bᶜᵀ S
+    const Force<S> BS = MS - Sh;              // Bᶜ S
     const Motion<S>& be = b.beta[k];
-    const Force<S> Bb = mul6(W, be) + mul6_t(W, be) - cross(be, b.hc[k]);  // Bᶜ β
+    const Force<S> Bb = M * be - cross(be, b.hc[k]);  // Bᶜ β
     const Force<S> Y = -(BS + S(2) * (Ic * be));
     Force<S> Fp = b.F[k];
     Force<S> R = Force<S>::Zero();
@@ -209,18 +220,27 @@ void rnea_derivatives_tree(const Model<S, T>& model, Data<S, T>& data, Derivativ
     const Force<S> Z = cross(Si, Fp) + Bb - Ic * b.alpha[k];
     const int r = off + i;
     tau[r] = dot(Si, b.F[k]);
-    dq(r, r) = dot(be, Qr) - dot(b.alpha[k], P);
-    dv(r, r) = -dot(Si, Qr) - S(2) * dot(be, P);
+    // Row i's four force-like vectors as the rows of G (moment first, as motions are angular first): each entry
+    // of row i and column i is a dot product of one of them with one of Sⱼ, βⱼ, αⱼ, and G [Sⱼ βⱼ αⱼ] gives all
+    // twelve of an ancestor j at once (three columns of four lanes: broadcasts and fused multiply-adds).
+    Eigen::Matrix<S, 4, 6> G;
+    G << Qr.n.transpose(), Qr.f.transpose(), Z.n.transpose(), Z.f.transpose(), Y.n.transpose(), Y.f.transpose(),
+        P.n.transpose(), P.f.transpose();
+    {
+      const Eigen::Matrix<S, 4, 3> D = G.lazyProduct(b.C[k]);
+      dq(r, r) = D(0, 1) - D(3, 2);               // βᵢ·Qᵢ − αᵢ·Pᵢ
+      dv(r, r) = -D(0, 0) - S(2) * D(3, 1);       // −Sᵢ·Qᵢ − 2 βᵢ·Pᵢ
+    }
     walk_up(model, I, [&](auto, auto J) {
       const auto jk = static_cast<std::size_t>(int(J));
       const int c = off + int(J);
-      const Motion<S>& Sj = b.S0[jk];
-      S x = dot(b.beta[jk], Qr) - dot(b.alpha[jk], P);
-      if (world_forces) x -= dot(Sj, R);
+      const Eigen::Matrix<S, 4, 3> D = G.lazyProduct(b.C[jk]);
+      S x = D(0, 1) - D(3, 2);                    // βⱼ·Qᵢ − αⱼ·Pᵢ
+      if (world_forces) x -= dot(b.S0[jk], R);
       dq(r, c) = x;
-      dv(r, c) = -dot(Sj, Qr) - S(2) * dot(b.beta[jk], P);
-      dq(c, r) = dot(Sj, Z);
-      dv(c, r) = dot(Sj, Y);
+      dv(r, c) = -D(0, 0) - S(2) * D(3, 1);       // −Sⱼ·Qᵢ − 2 βⱼ·Pᵢ
+      dq(c, r) = D(1, 0);                         // Sⱼ·Zᵢ
+      dv(c, r) = D(2, 0);                         // Sⱼ·Yᵢ
     });
     if (root.floating) {
       // The free-flyer's rows for column i (S_b·Z, S_b·Y, linear first) and its columns for row i.
@@ -237,13 +257,13 @@ void rnea_derivatives_tree(const Model<S, T>& model, Data<S, T>& data, Derivativ
     if (p >= 0) {
       const auto pk = static_cast<std::size_t>(p);
       b.Ic[pk] += Ic;
-      b.W[pk] += W;
+      b.M[pk] += M;
       b.hc[pk] += b.hc[k];
       b.F[pk] += b.F[k];
       if (world_forces) b.Fx[pk] += b.Fx[k];
     } else if (root.floating) {
       root.Ic += Ic;
-      root.W += W;
+      root.M += M;
       root.hc += b.hc[k];
       root.F += b.F[k];
       if (world_forces) root.Fx += b.Fx[k];
@@ -335,7 +355,7 @@ void rnea_derivatives_impl(const FloatingModel<S, T>& model, FloatingData<S, T>&
   const Force<S> h0 = I0 * root.v;
   root.Ic = I0;
   root.hc = h0;
-  inertia_cross(I0, root.v, root.W);
+  root.M = VelocityCoupling<S>::of(I0, root.v);
   root.F = I0 * root.a + cross(root.v, h0);
   const bool world_forces = X && frame == ForceFrame::Base;
   if constexpr (X) {
@@ -372,7 +392,7 @@ void rnea_derivatives_impl(const FloatingModel<S, T>& model, FloatingData<S, T>&
     if (r < 3) Sa.v[r] = S(1);
     else Sa.w[r - 3] = S(1);
     const Force<S> P = root.Ic * Sa;
-    const Force<S> Qr = mul6(root.W, Sa) + mul6_t(root.W, Sa) + cross(Sa, root.hc);
+    const Force<S> Qr = root.M * Sa + cross(Sa, root.hc);
     const Force<S> R = cross(Sa, root.Fx);
     free_flyer_columns<S>(P, Qr, world_forces ? &R : nullptr, g, root.v,
                           [&](int c) -> decltype(auto) { return dd.dtau_dq(r, c); },
