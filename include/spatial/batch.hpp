@@ -149,6 +149,46 @@ struct SincosTraits<xsimd::batch<T, A>> {
   }
 };
 
+/// Constants of `transpose_lanes` for the stage that swaps blocks of D lanes: lane i is in the upper block of its
+/// pair when i & D, and moves D lanes down (`LaneShiftDown`) or up (`LaneShiftUp`).
+template <std::size_t D>
+struct LaneUpper {
+  static constexpr bool get(std::size_t i, std::size_t) { return (i & D) != 0; }
+};
+template <std::size_t D>
+struct LaneShiftDown {
+  static constexpr std::size_t get(std::size_t i, std::size_t) { return (i & D) != 0 ? i - D : i; }
+};
+template <std::size_t D>
+struct LaneShiftUp {
+  static constexpr std::size_t get(std::size_t i, std::size_t) { return (i & D) != 0 ? i : i + D; }
+};
+
+/// Transposes the N × N block of values held by N registers of N lanes in place (N = the register's lane count, a
+/// power of two): afterwards lane j of a[i] is what lane i of a[j] was. Stage D (N/2, N/4, …, 1) swaps, in each
+/// pair of registers i and i + D (i & D = 0), the upper D lanes of each group of 2D lanes of register i with the
+/// lower D lanes of register i + D: one constant permutation and one constant blend per register (xsimd's
+/// `swizzle` and `select`, so the same code compiles to AVX2, AVX-512, SSE2 and NEON; with AVX-512 the blend
+/// folds into a masked permutation). N log₂N permutations in all, where moving the block through memory takes N²
+/// scalar stores.
+template <class P, std::size_t D = P::size / 2>
+SPATIAL_INLINE void transpose_lanes(P* a) {
+  if constexpr (D >= 1) {
+    using T = typename P::value_type;
+    using Index = xsimd::batch<std::conditional_t<sizeof(T) == 8, std::uint64_t, std::uint32_t>, typename P::arch_type>;
+    constexpr auto down = xsimd::make_batch_constant<Index, LaneShiftDown<D>>();
+    constexpr auto up = xsimd::make_batch_constant<Index, LaneShiftUp<D>>();
+    constexpr auto upper = xsimd::make_batch_bool_constant<P, LaneUpper<D>>();
+    for (std::size_t i = 0; i < P::size; ++i) {
+      if ((i & D) != 0) continue;
+      const P x = a[i], y = a[i + D];
+      a[i] = xsimd::select(upper, xsimd::swizzle(y, down), x);
+      a[i + D] = xsimd::select(upper, y, xsimd::swizzle(x, up));
+    }
+    transpose_lanes<P, D / 2>(a);
+  }
+}
+
 /// A fixed set of worker threads that run one function on task indices 0 … T−1 (the caller runs task 0): started
 /// once, woken per call, no allocation per call. After a call a worker polls the call counter kSpin times, yielding
 /// its core between polls (a millisecond or so), before it sleeps on a condition variable, so that calls in quick
@@ -300,7 +340,7 @@ class Batch {
     check("gravity", q, "q", tau, "tau");
     each(q.cols(), [&](Work& w, int j0, int m) {
       gather(w, j0, m, q);
-      scatter(spatial::gravity_torques(model_, w.data, w.q), j0, m, tau);
+      put(spatial::gravity_torques(model_, w.data, w.q).data(), nv_, 1, j0, m, staging(w), tau);
     });
   }
   /// C(q, q̇) = RNEA(q, q̇, 0) per state.
@@ -309,7 +349,7 @@ class Batch {
     check("bias", q, "q", v, "qd", tau, "tau");
     each(q.cols(), [&](Work& w, int j0, int m) {
       gather(w, j0, m, q, v);
-      scatter(spatial::bias_forces(model_, w.data, w.q, w.v), j0, m, tau);
+      put(spatial::bias_forces(model_, w.data, w.q, w.v).data(), nv_, 1, j0, m, staging(w), tau);
     });
   }
   /// q̈ = ABA(q, q̇, τ) per state.
@@ -336,11 +376,11 @@ class Batch {
     auto& y = const_cast<Eigen::MatrixBase<Out>&>(H);
     each(q.cols(), [&](Work& w, int j0, int m) {
       gather(w, j0, m, q);
-      // Only the entries CRBA writes (i an ancestor of j or j of i) leave the lanes; the rest of each state's block
-      // is zero. For the 21-DoF stance model that is 171 of 441 entries, and the copy out of the lanes was half
-      // the cost of a batched CRBA when it moved all of them.
       const auto& Hl = spatial::crba(model_, w.data, w.q);
-      S* const t = w.tmp.data();
+      S* const t = staging(w);
+      if (put_contiguous(Hl.data(), nv_, nv_, j0, m, t, y)) return;
+      // Another layout: only the entries CRBA writes (i an ancestor of j or j of i) leave the lanes, one by one;
+      // the rest of each state's block is zero (for the 21-DoF stance model, 171 of 441 entries).
       const std::size_t nnz = h_rows_.size();
       for (std::size_t k = 0; k < nnz; ++k) Hl(h_rows_[k], h_cols_[k]).store_unaligned(t + k * lanes);
       for (int l = 0; l < m; ++l) {
@@ -365,7 +405,7 @@ class Batch {
       Eigen::Matrix<Pack, 3, 4> P;
       P.template leftCols<3>() = X.E.transpose();
       P.col(3) = X.r;
-      scatter_blocks(P, j0, m, w.tmp, T);
+      put(P.data(), 3, 4, j0, m, staging(w), T);
     });
   }
   /// Jacobian of fixed frame `frame` in `rf` per state (`compute_frame_jacobian`): `J` is 6 × (nv·B), state j's in
@@ -377,7 +417,7 @@ class Batch {
     each(q.cols(), [&](Work& w, int j0, int m) {
       gather(w, j0, m, q);
       spatial::compute_frame_jacobian(model_, w.data, w.q, frame, rf, w.J);
-      scatter_blocks(w.J, j0, m, w.tmp, J);
+      put(w.J.data(), 6, nv_, j0, m, staging(w), J);
     });
   }
 
@@ -390,7 +430,7 @@ class Batch {
     LaneData data;
     VectorL q, v, a;
     JacobianL J;
-    std::vector<S> tmp;  ///< lane-major staging of the inputs (gather) and of a matrix result (scatter_blocks)
+    std::vector<S> tmp;  ///< lane-major staging of the inputs (gather) and of a result (put)
     Work(const LaneModel& m, int n)
         : data(m), q(n), v(n), a(n), J(6, n),
           tmp(static_cast<std::size_t>(std::max(n * n, 6 * n) + 12) * lanes + kStageSlack) {}
@@ -415,7 +455,7 @@ class Batch {
                     const Eigen::MatrixBase<Out>& out, Alg&& alg) {
     each(x.cols(), [&](Work& w, int j0, int m) {
       gather(w, j0, m, x, y, z);
-      scatter(alg(w), j0, m, out);
+      put(alg(w).data(), nv_, 1, j0, m, staging(w), out);
     });
   }
 
@@ -460,44 +500,105 @@ class Batch {
     const auto p = reinterpret_cast<std::uintptr_t>(w.tmp.data());
     return w.tmp.data() + ((align - p % align) % align) / sizeof(S);
   }
-  /// w.q, w.v, … = states j0 … j0 + m − 1 of x, y, … (at most three inputs): all are staged before the first
-  /// register is loaded. Filling a register's lanes with scalar stores and loading it right away stalls every row
-  /// (the load overlaps stores still in flight, so the processor cannot forward them and waits for them to reach
-  /// the cache); staged first, the stores of a row have long left by the time it is loaded (perf put those stalls
-  /// at about a sixth of a batched RNEA's samples on stance21 with AVX-512).
+  /// w.q, w.v, … = states j0 … j0 + m − 1 of x, y, … (at most three inputs). An input whose columns are
+  /// contiguous in memory (`take_contiguous`) is read `lanes` rows of `lanes` states at a time and transposed in
+  /// registers; the others are staged first and loaded after: filling a register's lanes with scalar stores and
+  /// loading it right away stalls every row (the load overlaps stores still in flight, so the processor cannot
+  /// forward them and waits for them to reach the cache); staged first, the stores of a row have long left by the
+  /// time it is loaded (perf put those stalls at about a sixth of a batched RNEA's samples on stance21 with AVX-512).
   template <class... X>
   void gather(Work& w, int j0, int m, const X&... x) {
     static_assert(sizeof...(X) >= 1 && sizeof...(X) <= 3, "gather: one to three inputs");
     S* const t = staging(w);
     const std::size_t block = static_cast<std::size_t>(nv_) * lanes;
-    std::size_t k = 0;
-    ((stage(x, j0, m, t + block * k++)), ...);
     VectorL* const outs[3] = {&w.q, &w.v, &w.a};
-    for (std::size_t r = 0; r < sizeof...(X); ++r) load(t + block * r, *outs[r]);
+    bool staged[3] = {false, false, false};
+    std::size_t k = 0;
+    ((staged[k] = !take_contiguous(x, j0, m, *outs[k]), staged[k] ? stage(x, j0, m, t + block * k) : void(), ++k),
+     ...);
+    for (std::size_t r = 0; r < sizeof...(X); ++r)
+      if (staged[r]) load(t + block * r, *outs[r]);
   }
-  /// y(i, j0 + l) = lane l of in[i] for l < m.
-  template <class V, class Y>
-  static void scatter(const V& in, int j0, int m, const Eigen::MatrixBase<Y>& y_) {
-    auto& y = const_cast<Eigen::MatrixBase<Y>&>(y_);
-    alignas(Pack::arch_type::alignment()) S buf[lanes];
-    for (Eigen::Index i = 0; i < in.size(); ++i) {
-      in[i].store_aligned(buf);
-      for (int l = 0; l < m; ++l) y(i, j0 + l) = buf[l];
+  /// out = states j0 … j0 + m − 1 of x (the last repeated into the unused lanes) when x gives direct access to
+  /// memory with contiguous columns (a plain matrix, a map, a block of rows of either) at least `lanes` rows long:
+  /// `lanes` rows of every lane's state loaded at once and transposed in registers (`detail::transpose_lanes`); the
+  /// last group of rows starts at rows − lanes (overlapping the one before, which it rewrites with the same values)
+  /// so that nothing past a column is read. Returns false, reading nothing, for other inputs.
+  template <class X, class V>
+  static bool take_contiguous(const Eigen::MatrixBase<X>& x, int j0, int m, V& out) {
+    if constexpr ((int(X::Flags) & Eigen::DirectAccessBit) != 0) {
+      const Eigen::Index n = x.rows();
+      if (x.rowStride() != 1 || n < lanes) return false;
+      const S* p[lanes];
+      for (int l = 0; l < lanes; ++l) p[l] = x.derived().data() + (j0 + std::min(l, m - 1)) * x.colStride();
+      Pack a[lanes];
+      for (Eigen::Index f = 0; f < n; f += lanes) {
+        const Eigen::Index g = std::min(f, n - lanes);
+        for (int l = 0; l < lanes; ++l) a[l] = Pack::load_unaligned(p[l] + g);
+        detail::transpose_lanes(a);
+        for (int i = 0; i < lanes; ++i) out[g + i] = a[i];
+      }
+      return true;
+    } else {
+      (void)x, (void)j0, (void)m, (void)out;
+      return false;
     }
   }
-  /// The r × c matrix of lane l into columns (j0 + l)·c … of y, for l < m: through `tmp` (r·c·lanes), so that each
-  /// state's block is written in memory order (for a column-major y, one contiguous run per state).
-  template <class M, class Y>
-  static void scatter_blocks(const M& in, int j0, int m, std::vector<S>& tmp, const Eigen::MatrixBase<Y>& y_) {
+  /// Writes a result of rows × cols registers (column-major at `src`) out of the lanes: lane l is state j0 + l, whose
+  /// block is columns (j0 + l)·cols … (j0 + l + 1)·cols − 1 of y, for l < m. `tmp` holds rows·cols·lanes values.
+  template <class Y>
+  static void put(const Pack* src, Eigen::Index rows, Eigen::Index cols, int j0, int m, S* tmp,
+                  const Eigen::MatrixBase<Y>& y_) {
+    if (put_contiguous(src, rows, cols, j0, m, tmp, y_)) return;
     auto& y = const_cast<Eigen::MatrixBase<Y>&>(y_);
-    const Eigen::Index r = in.rows(), c = in.cols();
-    S* const t = tmp.data();
-    for (Eigen::Index col = 0; col < c; ++col)
-      for (Eigen::Index row = 0; row < r; ++row) in(row, col).store_unaligned(t + (col * r + row) * lanes);
+    const Eigen::Index n = rows * cols;
+    for (Eigen::Index k = 0; k < n; ++k) src[k].store_unaligned(tmp + k * lanes);
     for (int l = 0; l < m; ++l) {
-      const Eigen::Index c0 = static_cast<Eigen::Index>(j0 + l) * c;
-      for (Eigen::Index col = 0; col < c; ++col)
-        for (Eigen::Index row = 0; row < r; ++row) y(row, c0 + col) = t[(col * r + row) * lanes + l];
+      const Eigen::Index c0 = static_cast<Eigen::Index>(j0 + l) * cols;
+      for (Eigen::Index c = 0; c < cols; ++c)
+        for (Eigen::Index r = 0; r < rows; ++r) y(r, c0 + c) = tmp[(c * rows + r) * lanes + l];
+    }
+  }
+  /// `put` when y gives direct access to memory in which each state's block is contiguous and column-major (a
+  /// plain matrix, a map, a block of whole columns of either; for a single column, any column stride): `lanes`
+  /// entries of the block at a time, the `lanes` registers transposed in registers (`detail::transpose_lanes`),
+  /// after which register l holds `lanes` consecutive entries of state l's block, stored at once. Every entry is
+  /// written (structural zeros included). Returns false, writing nothing, for other layouts.
+  template <class Y>
+  static bool put_contiguous(const Pack* src, Eigen::Index rows, Eigen::Index cols, int j0, int m, S* tmp,
+                             const Eigen::MatrixBase<Y>& y_) {
+    if constexpr ((int(Y::Flags) & Eigen::DirectAccessBit) != 0) {
+      auto& y = const_cast<Eigen::MatrixBase<Y>&>(y_);
+      if (y.rowStride() != 1 || (cols > 1 && y.colStride() != rows)) return false;
+      S* p[lanes];
+      for (int l = 0; l < m; ++l) p[l] = &y.coeffRef(0, static_cast<Eigen::Index>(j0 + l) * cols);
+      const Eigen::Index n = rows * cols;
+      Pack a[lanes];
+      Eigen::Index f = 0;
+      for (; f + lanes <= n; f += lanes) {
+        for (int i = 0; i < lanes; ++i) a[i] = src[f + i];
+        detail::transpose_lanes(a);
+        for (int l = 0; l < m; ++l) a[l].store_unaligned(p[l] + f);
+      }
+      if (f < n && n >= lanes) {
+        // The last entries with the `lanes` before them (rewritten with the same values).
+        f = n - lanes;
+        for (int i = 0; i < lanes; ++i) a[i] = src[f + i];
+        detail::transpose_lanes(a);
+        for (int l = 0; l < m; ++l) a[l].store_unaligned(p[l] + f);
+      } else if (f < n) {
+        const int rest = static_cast<int>(n - f);
+        for (int i = 0; i < lanes; ++i) a[i] = i < rest ? src[f + i] : Pack(S(0));
+        detail::transpose_lanes(a);
+        for (int l = 0; l < m; ++l) {
+          a[l].store_unaligned(tmp);
+          std::copy_n(tmp, rest, p[l] + f);
+        }
+      }
+      return true;
+    } else {
+      (void)src, (void)rows, (void)cols, (void)j0, (void)m, (void)tmp, (void)y_;
+      return false;
     }
   }
 

@@ -67,8 +67,10 @@ struct BatchCase {
   std::string name;
   int rows, width;  ///< the output is rows × (width · B)
   double tol_double;
+  /// The output as a map with a run-time column stride: a plain matrix (each state's block contiguous: written
+  /// through the lanes' transposition) or a block of rows of a larger matrix (written entry by entry).
   std::function<void(Batch<S, T>&, const BatchMatrix<S>&, const BatchMatrix<S>&, const BatchMatrix<S>&,
-                     BatchMatrix<S>&)>
+                     Eigen::Ref<BatchMatrix<S>, 0, Eigen::OuterStride<>>)>
       run;
   std::function<BatchMatrix<S>(const Model<S, T>&, Data<S, T>&, const Eigen::Matrix<S, Eigen::Dynamic, 1>&,
                                const Eigen::Matrix<S, Eigen::Dynamic, 1>&, const Eigen::Matrix<S, Eigen::Dynamic, 1>&)>
@@ -79,37 +81,38 @@ template <class S, class T>
 std::vector<BatchCase<S, T>> batch_cases(const Model<S, T>& model) {
   using Vec = Eigen::Matrix<S, Eigen::Dynamic, 1>;
   using M = BatchMatrix<S>;
+  using Out = Eigen::Ref<M, 0, Eigen::OuterStride<>>;
   const int n = model.size();
   std::vector<BatchCase<S, T>> cases;
   cases.push_back({"rnea", n, 1, 1e-13,
-                   [](Batch<S, T>& b, const M& q, const M& v, const M& a, M& out) { b.rnea(q, v, a, out); },
+                   [](Batch<S, T>& b, const M& q, const M& v, const M& a, Out out) { b.rnea(q, v, a, out); },
                    [](const Model<S, T>& m, Data<S, T>& d, const Vec& q, const Vec& v, const Vec& a) -> M {
                      return rnea(m, d, q, v, a);
                    }});
   cases.push_back({"gravity", n, 1, 1e-13,
-                   [](Batch<S, T>& b, const M& q, const M&, const M&, M& out) { b.gravity(q, out); },
+                   [](Batch<S, T>& b, const M& q, const M&, const M&, Out out) { b.gravity(q, out); },
                    [](const Model<S, T>& m, Data<S, T>& d, const Vec& q, const Vec&, const Vec&) -> M {
                      return gravity_torques(m, d, q);
                    }});
   cases.push_back({"bias", n, 1, 1e-13,
-                   [](Batch<S, T>& b, const M& q, const M& v, const M&, M& out) { b.bias(q, v, out); },
+                   [](Batch<S, T>& b, const M& q, const M& v, const M&, Out out) { b.bias(q, v, out); },
                    [](const Model<S, T>& m, Data<S, T>& d, const Vec& q, const Vec& v, const Vec&) -> M {
                      return bias_forces(m, d, q, v);
                    }});
   cases.push_back({"aba", n, 1, 2e-12,
-                   [](Batch<S, T>& b, const M& q, const M& v, const M& a, M& out) { b.aba(q, v, a, out); },
+                   [](Batch<S, T>& b, const M& q, const M& v, const M& a, Out out) { b.aba(q, v, a, out); },
                    [](const Model<S, T>& m, Data<S, T>& d, const Vec& q, const Vec& v, const Vec& a) -> M {
                      return aba(m, d, q, v, a);
                    }});
   cases.push_back({"forward_dynamics_crba", n, 1, 2e-12,
-                   [](Batch<S, T>& b, const M& q, const M& v, const M& a, M& out) {
+                   [](Batch<S, T>& b, const M& q, const M& v, const M& a, Out out) {
                      b.forward_dynamics_crba(q, v, a, out);
                    },
                    [](const Model<S, T>& m, Data<S, T>& d, const Vec& q, const Vec& v, const Vec& a) -> M {
                      return forward_dynamics_crba(m, d, q, v, a);
                    }});
   cases.push_back({"crba", n, n, 1e-13,
-                   [](Batch<S, T>& b, const M& q, const M&, const M&, M& out) { b.crba(q, out); },
+                   [](Batch<S, T>& b, const M& q, const M&, const M&, Out out) { b.crba(q, out); },
                    [](const Model<S, T>& m, Data<S, T>& d, const Vec& q, const Vec&, const Vec&) -> M {
                      return crba(m, d, q);
                    }});
@@ -120,7 +123,7 @@ std::vector<BatchCase<S, T>> batch_cases(const Model<S, T>& model) {
     if (k >= 0 && std::find(picked.begin(), picked.end(), k) == picked.end()) picked.push_back(k);
   for (const int k : picked) {
     cases.push_back({"frame_placement " + model.frames()[static_cast<std::size_t>(k)].name, 3, 4, 1e-13,
-                     [k](Batch<S, T>& b, const M& q, const M&, const M&, M& out) { b.frame_placement(q, k, out); },
+                     [k](Batch<S, T>& b, const M& q, const M&, const M&, Out out) { b.frame_placement(q, k, out); },
                      [k](const Model<S, T>& m, Data<S, T>& d, const Vec& q, const Vec&, const Vec&) -> M {
                        forward_kinematics(m, d, q);
                        return frame_pose(m, d, k).matrix().topRows(3);
@@ -129,7 +132,7 @@ std::vector<BatchCase<S, T>> batch_cases(const Model<S, T>& model) {
       cases.push_back({"frame_jacobian " + model.frames()[static_cast<std::size_t>(k)].name + " rf " +
                            std::to_string(static_cast<int>(rf)),
                        6, n, 1e-13,
-                       [k, rf](Batch<S, T>& b, const M& q, const M&, const M&, M& out) {
+                       [k, rf](Batch<S, T>& b, const M& q, const M&, const M&, Out out) {
                          b.frame_jacobian(q, k, rf, out);
                        },
                        [k, rf](const Model<S, T>& m, Data<S, T>& d, const Vec& q, const Vec&, const Vec&) -> M {
@@ -181,6 +184,14 @@ void check_batch(const Model<double, T>& model64, const std::string& label, unsi
           EXPECT_TRUE(same_bits(alone, out1.middleCols(j * c.width, c.width)))
               << label << " " << c.name << ": state " << j << " alone differs from its value in the batch";
         }
+        // The same bits into outputs whose states' blocks are not contiguous (written entry by entry instead of
+        // through the lanes' transposition): rows 1 … rows of a larger matrix, whose other rows stay as they were.
+        BatchMatrix<S> big(c.rows + 2, c.width * B);
+        big.setConstant(S(-7));
+        c.run(one, Q, V, A, big.middleRows(1, c.rows));
+        EXPECT_TRUE(same_bits(big.middleRows(1, c.rows), out1)) << label << " " << c.name << ": into a block";
+        EXPECT_TRUE((big.row(0).array() == S(-7)).all() && (big.row(c.rows + 1).array() == S(-7)).all())
+            << label << " " << c.name << ": wrote outside its block";
         // A NaN in state 1's q (and in state 2's q̇ or τ) stays there.
         BatchMatrix<S> Qn = Q, Vn = V;
         Qn(n / 2, 1) = std::numeric_limits<S>::quiet_NaN();

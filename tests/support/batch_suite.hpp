@@ -121,4 +121,47 @@ TEST(Batch, InputsAsRowMajorMapsAndOutputsAsBlocks) {
   EXPECT_EQ(big(7, 11), -3.0);
 }
 
+TEST(Batch, EveryMethodWithRowMajorAndNonDirectInputsAndOutputs) {
+  // Inputs and outputs whose states are not contiguous columns get the same bits as plain matrices (staged and
+  // written entry by entry instead of transposed in registers): row-major matrices (direct access, row stride ≠ 1)
+  // and expressions without direct access (a product by 1 as an input, Eigen's reverse() as an output).
+  const Model<double> model = random_tree(7, spatial::testing::Shape::Branched, 81);
+  Batch<double> batch(model, 1);
+  const int n = 7, B = 2 * Batch<double>::lanes + 1;
+  std::mt19937 rng(82);
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  const Eigen::MatrixXd Q = spatial::testing::random_states<double>(n, B, rng, 1.5),
+                        V = spatial::testing::random_states<double>(n, B, rng, 1.5),
+                        A = spatial::testing::random_states<double>(n, B, rng, 1.5);
+  const RowMajor Qr = Q, Vr = V, Ar = A;
+  const auto check = [&](const char* name, int rows, int cols, const auto& run) {
+    Eigen::MatrixXd want = Eigen::MatrixXd::Constant(rows, cols, -5.0), rev = want, from_rows = want,
+                    from_expr = want;
+    RowMajor rm = RowMajor::Constant(rows, cols, -5.0);
+    run(Q, V, A, want);
+    run(Q, V, A, rm);
+    run(Q, V, A, rev.reverse());
+    run(Qr, Vr, Ar, from_rows);
+    run(Q * 1.0, V * 1.0, A * 1.0, from_expr);
+    EXPECT_FALSE((want.array() == -5.0).any()) << name << ": an entry left unwritten";
+    EXPECT_TRUE(spatial::testing::same_bits(rm, want)) << name << ": into a row-major matrix";
+    EXPECT_TRUE(spatial::testing::same_bits(rev.reverse(), want)) << name << ": into reverse()";
+    EXPECT_TRUE(spatial::testing::same_bits(from_rows, want)) << name << ": from row-major matrices";
+    EXPECT_TRUE(spatial::testing::same_bits(from_expr, want)) << name << ": from expressions";
+  };
+  check("rnea", n, B, [&](const auto& q, const auto& v, const auto& a, auto&& out) { batch.rnea(q, v, a, out); });
+  check("gravity", n, B, [&](const auto& q, const auto&, const auto&, auto&& out) { batch.gravity(q, out); });
+  check("bias", n, B, [&](const auto& q, const auto& v, const auto&, auto&& out) { batch.bias(q, v, out); });
+  check("aba", n, B, [&](const auto& q, const auto& v, const auto& a, auto&& out) { batch.aba(q, v, a, out); });
+  check("forward_dynamics_crba", n, B, [&](const auto& q, const auto& v, const auto& a, auto&& out) {
+    batch.forward_dynamics_crba(q, v, a, out);
+  });
+  check("crba", n, n * B, [&](const auto& q, const auto&, const auto&, auto&& out) { batch.crba(q, out); });
+  check("frame_placement", 3, 4 * B,
+        [&](const auto& q, const auto&, const auto&, auto&& out) { batch.frame_placement(q, 1, out); });
+  check("frame_jacobian", 6, n * B, [&](const auto& q, const auto&, const auto&, auto&& out) {
+    batch.frame_jacobian(q, 1, ReferenceFrame::World, out);
+  });
+}
+
 }  // namespace
