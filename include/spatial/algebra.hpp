@@ -69,7 +69,7 @@ SPATIAL_INLINE void copy_elements(M& dst, const M& src) {
   copy_elements(dst, src, std::make_index_sequence<M::SizeAtCompileTime>());
 }
 
-// The data members of Motion, Force, Transform and ArticulatedInertia (their bases): for float and double a plain
+// The data members of Motion, Force, Transform, Inertia and ArticulatedInertia (their bases): for float and double a plain
 // struct; for kAssignParts scalars the same struct wrapped in AssignedCopy, which builds and copies it through the
 // struct's `assign` overloads (from the parts, or from another one).
 template <class S>
@@ -127,6 +127,20 @@ struct ArticulatedInertiaPlain {
   }
 };
 
+template <class S>
+struct InertiaPlain {
+  S m;
+  Vector3<S> h;
+  Matrix3<S> I;
+  InertiaPlain() = default;
+  SPATIAL_INLINE InertiaPlain(const S& m_, const Vector3<S>& h_, const Matrix3<S>& I_) : m(m_), h(h_), I(I_) {}
+  SPATIAL_INLINE void assign(const S& m_, const Vector3<S>& h_, const Matrix3<S>& I_) {
+    m = m_;
+    copy_elements(h, h_);
+    copy_elements(I, I_);
+  }
+  SPATIAL_INLINE void assign(const InertiaPlain& o) { assign(o.m, o.h, o.I); }
+};
 /// Plain, built and copied by assignment: default-initialized, then `Plain::assign` from the parts or from the other
 /// one. A user-declared copy constructor and no move: a move copies the same way.
 template <class Plain>
@@ -153,6 +167,8 @@ template <class S>
 using TransformParts = PartsOf<TransformPlain<S>, S>;
 template <class S>
 using ArticulatedInertiaParts = PartsOf<ArticulatedInertiaPlain<S>, S>;
+template <class S>
+using InertiaParts = PartsOf<InertiaPlain<S>, S>;
 }  // namespace detail
 
 /// The 3×3 matrix r̃ with r̃ p = r × p (RBDA eq. 2.9).
@@ -502,15 +518,16 @@ SPATIAL_INLINE Transform<S> xlt(const Vector3<S>& r) { return Transform<S>(Matri
 /// Spatial rigid-body inertia, stored compactly (RBDA §2.13, eq. 2.63): mass m, first moment h = m c and the
 /// rotational inertia Ī about the frame origin. As a 6×6 it is [Ī h̃; h̃ᵀ m1].
 template <class S>
-struct Inertia {
+struct Inertia : detail::InertiaParts<S> {
   using Scalar = S;
-  S m;
-  Vector3<S> h;
-  Matrix3<S> I;  ///< rotational inertia about the frame origin (symmetric)
+  using Parts = detail::InertiaParts<S>;
+  using Parts::m;  ///< mass
+  using Parts::h;  ///< first moment m c about the frame origin
+  using Parts::I;  ///< rotational inertia about the frame origin (symmetric)
 
   Inertia() = default;
   Inertia(S mass, const Vector3<S>& first_moment, const Matrix3<S>& rot_inertia_origin)
-      : m(mass), h(first_moment), I(rot_inertia_origin) {}
+      : Parts(mass, first_moment, rot_inertia_origin) {}
   static SPATIAL_INLINE Inertia Zero() { return Inertia(S(0), Vector3<S>::Zero(), Matrix3<S>::Zero()); }
 
   /// From mass, centre of mass c and rotational inertia I_c about the centre of mass, all in this frame:
