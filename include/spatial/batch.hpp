@@ -513,9 +513,12 @@ class Batch {
     const std::size_t block = static_cast<std::size_t>(nv_) * lanes;
     VectorL* const outs[3] = {&w.q, &w.v, &w.a};
     bool staged[3] = {false, false, false};
+    const auto take = [&](const auto& xk, std::size_t k) {
+      staged[k] = !take_contiguous(xk, j0, m, *outs[k]);
+      if (staged[k]) stage(xk, j0, m, t + block * k);
+    };
     std::size_t k = 0;
-    ((staged[k] = !take_contiguous(x, j0, m, *outs[k]), staged[k] ? stage(x, j0, m, t + block * k) : void(), ++k),
-     ...);
+    (take(x, k++), ...);
     for (std::size_t r = 0; r < sizeof...(X); ++r)
       if (staged[r]) load(t + block * r, *outs[r]);
   }
@@ -574,25 +577,21 @@ class Batch {
       for (int l = 0; l < m; ++l) p[l] = &y.coeffRef(0, static_cast<Eigen::Index>(j0 + l) * cols);
       const Eigen::Index n = rows * cols;
       Pack a[lanes];
-      Eigen::Index f = 0;
-      for (; f + lanes <= n; f += lanes) {
-        for (int i = 0; i < lanes; ++i) a[i] = src[f + i];
-        detail::transpose_lanes(a);
-        for (int l = 0; l < m; ++l) a[l].store_unaligned(p[l] + f);
-      }
-      if (f < n && n >= lanes) {
-        // The last entries with the `lanes` before them (rewritten with the same values).
-        f = n - lanes;
-        for (int i = 0; i < lanes; ++i) a[i] = src[f + i];
-        detail::transpose_lanes(a);
-        for (int l = 0; l < m; ++l) a[l].store_unaligned(p[l] + f);
-      } else if (f < n) {
-        const int rest = static_cast<int>(n - f);
-        for (int i = 0; i < lanes; ++i) a[i] = i < rest ? src[f + i] : Pack(S(0));
+      if (n >= lanes) {
+        // The last group starts at n − lanes, overlapping the one before (rewritten with the same values).
+        for (Eigen::Index f = 0; f < n; f += lanes) {
+          const Eigen::Index g = std::min(f, n - lanes);
+          for (int i = 0; i < lanes; ++i) a[i] = src[g + i];
+          detail::transpose_lanes(a);
+          for (int l = 0; l < m; ++l) a[l].store_unaligned(p[l] + g);
+        }
+      } else {
+        // Fewer entries than lanes: each state's through tmp.
+        for (int i = 0; i < lanes; ++i) a[i] = i < n ? src[i] : Pack(S(0));
         detail::transpose_lanes(a);
         for (int l = 0; l < m; ++l) {
           a[l].store_unaligned(tmp);
-          std::copy_n(tmp, rest, p[l] + f);
+          std::copy_n(tmp, n, p[l]);
         }
       }
       return true;
