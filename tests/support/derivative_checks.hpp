@@ -106,6 +106,10 @@ void check_fixed(const Model<double, T>& model, const Vec& q, const Vec& v, cons
   const Mat H = crba(model, ref, q);
   EXPECT_TRUE(Mat(dd.dqdd_dtau) == Mat(dd.minv.Minv));  // H⁻¹ by inverse_inertia, kept in dd.minv
   EXPECT_LT((Mat(dd.dqdd_dtau) * H - Mat::Identity(n, n)).cwiseAbs().maxCoeff(), 1e-10);
+  // ∂q̈/∂x = −H⁻¹ ∂τ/∂x as dense products (aba_derivatives sums only over ∂τ/∂x's structural non-zeros; dd.dtau_*
+  // hold RNEA's derivatives at q̈ = FD(τ) on return).
+  EXPECT_LT(rel_err(dd.dqdd_dq, Mat(-Mat(dd.minv.Minv) * Mat(dd.dtau_dq))), 1e-13);
+  EXPECT_LT(rel_err(dd.dqdd_dv, Mat(-Mat(dd.minv.Minv) * Mat(dd.dtau_dv))), 1e-13);
 }
 
 // ---- floating base -----------------------------------------------------------------------------------------------
@@ -145,6 +149,10 @@ void check_floating(const FloatingModel<double, T>& model, const Vec& q, const V
   const Mat H = crba(model, ref, q);
   EXPECT_TRUE(Mat(dd.dqdd_dtau) == Mat(dd.minv.Minv));  // H⁻¹ by inverse_inertia, kept in dd.minv
   EXPECT_LT((Mat(dd.dqdd_dtau) * H - Mat::Identity(nv, nv)).cwiseAbs().maxCoeff(), 1e-10);
+  // ∂q̈/∂x = −H⁻¹ ∂τ/∂x as dense products (aba_derivatives sums only over ∂τ/∂x's structural non-zeros; dd.dtau_*
+  // hold RNEA's derivatives at q̈ = FD(τ) on return).
+  EXPECT_LT(rel_err(dd.dqdd_dq, Mat(-Mat(dd.minv.Minv) * Mat(dd.dtau_dq))), 1e-13);
+  EXPECT_LT(rel_err(dd.dqdd_dv, Mat(-Mat(dd.minv.Minv) * Mat(dd.dtau_dv))), 1e-13);
 }
 
 }  // namespace spatial::testing::derivative_checks
