@@ -177,8 +177,8 @@ void rnea_derivatives_tree(const Model<S, T>& model, Data<S, T>& data, Derivativ
     const S qd = S(v[i]), qdd = S(a[i]);
     b.S0[k] = Si;
     b.v[k] = vp + Si * qd;
-    b.a[k] = ap + Si * qdd + cross(b.v[k], Si) * qd;
     b.beta[k] = cross(Si, vp);
+    b.a[k] = ap + Si * qdd - b.beta[k] * qd;  // vᵢ × Sᵢ q̇ᵢ = v_λ × Sᵢ q̇ᵢ = −βᵢ q̇ᵢ (Sᵢ × Sᵢ = 0)
     b.alpha[k] = cross(Si, ap) + cross(vp, b.beta[k]);
     b.C[k] << Si.w, b.beta[k].w, b.alpha[k].w, Si.v, b.beta[k].v, b.alpha[k].v;
     const Inertia<S> In = model.inertia(i).transformed_inverse(X0);
