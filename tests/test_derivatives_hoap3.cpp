@@ -1,6 +1,6 @@
 // The analytical derivatives on the compile-time tree of the HOAP-3 stance model (21 DoF): against central finite
-// differences and the forward-mode AD oracle with and without external forces, repeated calls, float against
-// double (support/derivative_checks.hpp). Compile-time trees only: nothing here in the sanitizer build
+// differences and the forward-mode AD oracle with and without external forces, its run-time twin the same way,
+// repeated calls, float against double (support/derivative_checks.hpp). Compile-time trees only: nothing here in the sanitizer build
 // (support/compile_time_trees.hpp). The floating base is in test_derivatives_hoap3_floating.cpp.
 #include <spatial/models/hoap3_stance_right.hpp>
 
@@ -23,6 +23,18 @@ TEST(RneaDerivatives, Hoap3StanceCompileTimeTreeAgainstFiniteDifferencesAndAD) {
   check_fixed<true>(model, q, v, a, NoExternalForces{}, ForceFrame::Body, "no external forces");
   check_fixed<true>(model, q, v, a, f, ForceFrame::Body, "body-frame forces");
   check_fixed<true>(model, q, v, a, f, ForceFrame::Base, "base-frame forces");
+}
+
+// The run-time twin (revolute joints about coordinate axes, double) takes the AVX2 forward pass too, over per-body
+// records in Data::work and a switch on each joint's axis instead of the unrolled tree; the AD oracle takes the
+// scalar pass.
+TEST(RneaDerivatives, Hoap3StanceRuntimeTwinAgainstFiniteDifferencesAndAD) {
+  const Model<double> twin = models::hoap3_stance_right::model().to_runtime();
+  const int n = twin.size();
+  std::mt19937 rng(14);
+  const Vec q = random_vector(n, rng, 1.0), v = random_vector(n, rng, 2.0), a = random_vector(n, rng, 2.0);
+  check_fixed<true>(twin, q, v, a, NoExternalForces{}, ForceFrame::Body, "run-time twin, no external forces");
+  check_fixed<true>(twin, q, v, a, random_forces(n, rng), ForceFrame::Base, "run-time twin, base-frame forces");
 }
 
 TEST(RneaDerivatives, RepeatedCallsAndOtherStatesLeaveNothingBehind) {

@@ -153,6 +153,101 @@ struct DerivativeRoot {
   Force<S> hc = Force<S>::Zero(), F = Force<S>::Zero(), Fx = Force<S>::Zero();
 };
 
+#if SPATIAL_SIMD_AVX2
+namespace simd {
+/// The forward pass of `rnea_derivatives_tree` on AVX2 (double or float, revolute joints about coordinate axes:
+/// `simd_applies`), every 3-vector in a register: ⁱX_λ and ⁱX_0 into `data.X_up` and `data.X_base` (base_transform,
+/// as forward_kinematics' kernel leaves them), and per body, in base coordinates, Sᵢ, vᵢ, aᵢ, βᵢ, αᵢ, Cᵢ, the body
+/// inertia ⁱX_0ᵀ Iᵢ ⁱX_0 (transformed_inertia, the arithmetic of CRBA's and H⁻¹'s kernels), its momentum Iᵢ vᵢ, its
+/// force Iᵢ aᵢ + vᵢ ×* Iᵢ vᵢ and its velocity coupling (`VelocityCoupling::of`), into the arrays of `b`; external
+/// forces are left to the caller. Agrees with the scalar pass (the same formulas) to rounding.
+template <class S, class T, class Bodies, class QD, class QDD, class Root>
+void derivatives_forward(const Model<S, T>& model, Data<S, T>& data, Bodies& out, const QD& qd, const QDD& qdd,
+                         const Root& root) {
+  using V = Vec<S>;
+  constexpr bool Static = Model<S, T>::is_static;
+  constexpr int NB = Static ? Model<S, T>::NB : 1;
+  struct Body {
+    V col[3], row[3], r;  // ⁱX_0: columns and rows of E, r
+    V vw, vv, aw, av;     // vᵢ and aᵢ, for the children
+  };
+  Body local[NB];
+  Body* b = local;
+  if constexpr (Static) keep_in_memory(b);
+  else b = records<Body>(data, model.size());
+  const V rvw = load3z(root.v.w.data()), rvv = load3(root.v.v.data());
+  const V raw = load3z(root.a.w.data()), rav = load3(root.a.v.data());
+  // A motion (w, v) and a force (n, f) out of registers: the first store's fourth lane is overwritten by the second.
+  auto put = [](S* x, V first, V second) SPATIAL_LAMBDA_INLINE {
+    store4(x, first);
+    store3(x + 3, second);
+  };
+  auto forward = [&](auto I, auto KC) SPATIAL_LAMBDA_INLINE {
+    const int i = I;
+    const auto k = static_cast<std::size_t>(i);
+    const auto p = parent_of(model, I);
+    Body& B = b[i];
+    LocalTransform<S> up;
+    V sw, sv;
+    base_transform<decltype(KC)::value>(model, data, i, p, b, up, B, sw, sv);
+    const bool has_parent = int(p) >= 0;
+    const V vpw = has_parent ? b[int(p)].vw : rvw, vpv = has_parent ? b[int(p)].vv : rvv;
+    const V apw = has_parent ? b[int(p)].aw : raw, apv = has_parent ? b[int(p)].av : rav;
+    const V dq = bcast(S(qd[i])), ddq = bcast(S(qdd[i]));
+    // vᵢ = v_λ + Sᵢ q̇ᵢ, βᵢ = Sᵢ × v_λ, aᵢ = a_λ + Sᵢ q̈ᵢ − βᵢ q̇ᵢ, αᵢ = Sᵢ × a_λ + v_λ × βᵢ
+    B.vw = fmadd(sw, dq, vpw);
+    B.vv = fmadd(sv, dq, vpv);
+    const V bw = cross(sw, vpw), bv = add(cross(sw, vpv), cross(sv, vpw));
+    B.aw = fnmadd(bw, dq, fmadd(sw, ddq, apw));
+    B.av = fnmadd(bv, dq, fmadd(sv, ddq, apv));
+    const V alw = add(cross(sw, apw), cross(vpw, bw));
+    const V alv = add(add(cross(sw, apv), cross(sv, apw)), add(cross(vpw, bv), cross(vpv, bw)));
+    put(out.S0[k].w.data(), sw, sv);
+    put(out.v[k].w.data(), B.vw, B.vv);
+    put(out.a[k].w.data(), B.aw, B.av);
+    put(out.beta[k].w.data(), bw, bv);
+    put(out.alpha[k].w.data(), alw, alv);
+    S* C = out.C[k].data();  // [Sᵢ βᵢ αᵢ], column-major 6 × 3
+    put(C, sw, sv);
+    put(C + 6, bw, bv);
+    put(C + 12, alw, alv);
+    // The body inertia in base coordinates (m, h, Ī by columns); h and Ī are contiguous in an Inertia.
+    const Inertia<S>& I0 = model.inertia(i);
+    const V ic0[3] = {load3z(I0.I.data()), load3z(I0.I.data() + 3), load3(I0.I.data() + 6)};
+    V h, c[3];
+    transformed_inertia<S>(B.col, B.row, B.r, I0.m, load3z(I0.h.data()), ic0, h, c);
+    Inertia<S>& In = out.Ic[k];
+    In.m = I0.m;
+    store4(In.h.data(), h);
+    store4(In.I.data(), c[0]);
+    store4(In.I.data() + 3, c[1]);
+    store3(In.I.data() + 6, c[2]);
+    // I x = (Ī ω + h × u, m u − h × ω) for a motion x = (ω, u).
+    const V m = bcast(I0.m);
+    const V hn = add(comb(c[0], c[1], c[2], B.vw), cross(h, B.vv)), hf = fmsub(m, B.vv, cross(h, B.vw));
+    const V ian = add(comb(c[0], c[1], c[2], B.aw), cross(h, B.av)), iaf = fmsub(m, B.av, cross(h, B.aw));
+    put(out.hc[k].n.data(), hn, hf);
+    // Fᵢ = Iᵢ aᵢ + vᵢ ×* (Iᵢ vᵢ), v ×* (n, f) = (ω × n + u × f, ω × f)
+    put(out.F[k].n.data(), add(ian, add(cross(B.vw, hn), cross(B.vv, hf))), add(iaf, cross(B.vw, hf)));
+    // VelocityCoupling::of: A = G + Gᵀ − 2 (h·u) 1 with G = Ī ω̃ + u hᵀ, whose row j is Īⱼ × ω + uⱼ h (Ī
+    // symmetric: row j of Ī ω̃ is −ω × Īⱼ); A is symmetric, so row j of G + Gᵀ is also its column j. k = h × ω − m u.
+    V g[3], gt[3];
+    g[0] = fmadd(lane<0>(B.vv), h, cross(c[0], B.vw));
+    g[1] = fmadd(lane<1>(B.vv), h, cross(c[1], B.vw));
+    g[2] = fmadd(lane<2>(B.vv), h, cross(c[2], B.vw));
+    transpose(g[0], g[1], g[2], gt[0], gt[1], gt[2]);
+    const V hu2 = bcast(S(2) * hsum(mul(h, B.vv)));
+    S* A = out.M[k].A.data();  // then k, contiguous
+    store4(A, sub(add(g[0], gt[0]), only<0>(hu2)));
+    store4(A + 3, sub(add(g[1], gt[1]), only<1>(hu2)));
+    store4(A + 6, sub(add(g[2], gt[2]), only<2>(hu2)));
+    store3(A + 9, fnmadd(m, B.vv, cross(h, B.vw)));
+  };
+  bodies(model, forward);
+}
+}  // namespace simd
+#endif
+
 /// The tree's part of the RNEA derivatives. Writes rows/columns `off + i` of dq and dv, τᵢ into tau[off + i] and,
 /// for a floating root, the free-flyer's rows (0…5) for the tree's columns and its columns for the tree's rows.
 template <class S, class T, class Q, class V, class A, class Ext, class MQ, class MV, class Tau>
@@ -163,39 +258,52 @@ void rnea_derivatives_tree(const Model<S, T>& model, Data<S, T>& data, Derivativ
   constexpr bool X = has_external_v<Ext>;
   const bool world_forces = X && frame == ForceFrame::Base;
   joint_sincos(model, data, q);
-
-  for_each_body(model, [&](auto I) {
-    const int i = I;
-    const auto k = static_cast<std::size_t>(i);
-    const int p = model.parent(I);
-    const auto pk = static_cast<std::size_t>(p);
-    update_transform<true>(model, data, I, q);
-    const Transform<S>& X0 = data.X_base[k];
-    const Motion<S>& vp = p >= 0 ? b.v[pk] : root.v;
-    const Motion<S>& ap = p >= 0 ? b.a[pk] : root.a;
-    const Motion<S> Si = model.joint(I).subspace_inverse(X0);
-    const S qd = S(v[i]), qdd = S(a[i]);
-    b.S0[k] = Si;
-    b.v[k] = vp + Si * qd;
-    b.beta[k] = cross(Si, vp);
-    b.a[k] = ap + Si * qdd - b.beta[k] * qd;  // vᵢ × Sᵢ q̇ᵢ = v_λ × Sᵢ q̇ᵢ = −βᵢ q̇ᵢ (Sᵢ × Sᵢ = 0)
-    b.alpha[k] = cross(Si, ap) + cross(vp, b.beta[k]);
-    b.C[k] << Si.w, b.beta[k].w, b.alpha[k].w, Si.v, b.beta[k].v, b.alpha[k].v;
-    const Inertia<S> In = model.inertia(i).transformed_inverse(X0);
-    const Force<S> h = In * b.v[k];
-    b.F[k] = In * b.a[k] + cross(b.v[k], h);
-    if constexpr (X) {
+  // The forward pass: by the AVX2 kernel where it applies, else here.
+  bool forward_done = false;
+#if SPATIAL_SIMD_AVX2
+  if constexpr (simd_candidate<S, T>()) {
+    if (simd_applies(model)) {
+      simd::derivatives_forward(model, data, b, v, a, root);
+      forward_done = true;
+    }
+  }
+#endif
+  if (!forward_done) {
+    for_each_body(model, [&](auto I) {
+      const int i = I;
+      const auto k = static_cast<std::size_t>(i);
+      const int p = model.parent(I);
+      const auto pk = static_cast<std::size_t>(p);
+      update_transform<true>(model, data, I, q);
+      const Motion<S>& vp = p >= 0 ? b.v[pk] : root.v;
+      const Motion<S>& ap = p >= 0 ? b.a[pk] : root.a;
+      const Motion<S> Si = model.joint(I).subspace_inverse(data.X_base[k]);
+      const S qd = S(v[i]), qdd = S(a[i]);
+      b.S0[k] = Si;
+      b.v[k] = vp + Si * qd;
+      b.beta[k] = cross(Si, vp);
+      b.a[k] = ap + Si * qdd - b.beta[k] * qd;  // vᵢ × Sᵢ q̇ᵢ = v_λ × Sᵢ q̇ᵢ = −βᵢ q̇ᵢ (Sᵢ × Sᵢ = 0)
+      b.alpha[k] = cross(Si, ap) + cross(vp, b.beta[k]);
+      b.C[k] << Si.w, b.beta[k].w, b.alpha[k].w, Si.v, b.beta[k].v, b.alpha[k].v;
+      const Inertia<S> In = model.inertia(i).transformed_inverse(data.X_base[k]);
+      const Force<S> h = In * b.v[k];
+      b.F[k] = In * b.a[k] + cross(b.v[k], h);
+      b.Ic[k] = In;
+      b.hc[k] = h;
+      b.M[k] = VelocityCoupling<S>::of(In, b.v[k]);
+    });
+  }
+  if constexpr (X) {
+    for_each_body(model, [&](auto I) {
+      const auto k = static_cast<std::size_t>(int(I));
       if (world_forces) {
         b.Fx[k] = fext[k];
         b.F[k] -= fext[k];
       } else {
-        b.F[k] -= X0.apply_force_inverse(fext[k]);
+        b.F[k] -= data.X_base[k].apply_force_inverse(fext[k]);
       }
-    }
-    b.Ic[k] = In;
-    b.hc[k] = h;
-    b.M[k] = VelocityCoupling<S>::of(In, b.v[k]);
-  });
+    });
+  }
 
   for_each_body_reverse(model, [&](auto I) {
     const int i = I;
