@@ -245,6 +245,81 @@ void derivatives_forward(const Model<S, T>& model, Data<S, T>& data, Bodies& out
   };
   bodies(model, forward);
 }
+
+/// Columns 0, 1, 2 of the 4 × 4 matrix whose rows are a, b, c, d (lanes 0..3).
+SPATIAL_INLINE void rows_to_columns(Vd a, Vd b, Vd c, Vd d, Vd& c0, Vd& c1, Vd& c2) {
+  const Vd t0 = _mm256_unpacklo_pd(a, b), t1 = _mm256_unpackhi_pd(a, b);  // a0 b0 a2 b2, a1 b1 a3 b3
+  const Vd t2 = _mm256_unpacklo_pd(c, d), t3 = _mm256_unpackhi_pd(c, d);  // c0 d0 c2 d2, c1 d1 c3 d3
+  c0 = _mm256_permute2f128_pd(t0, t2, 0x20);
+  c1 = _mm256_permute2f128_pd(t1, t3, 0x20);
+  c2 = _mm256_permute2f128_pd(t0, t2, 0x31);
+}
+SPATIAL_INLINE void rows_to_columns(Vf a, Vf b, Vf c, Vf d, Vf& c0, Vf& c1, Vf& c2) {
+  const Vf t0 = _mm_unpacklo_ps(a, b), t1 = _mm_unpacklo_ps(c, d);  // a0 b0 a1 b1, c0 d0 c1 d1
+  const Vf t2 = _mm_unpackhi_ps(a, b), t3 = _mm_unpackhi_ps(c, d);  // a2 b2 a3 b3, c2 d2 c3 d3
+  c0 = _mm_movelh_ps(t0, t1);
+  c1 = _mm_movehl_ps(t1, t0);
+  c2 = _mm_movelh_ps(t2, t3);
+}
+
+/// One body's row vectors of the backward pass of `rnea_derivatives_tree` with every 3-vector in a register (the
+/// trees of derivatives_forward): Pᵢ = Iᶜ Sᵢ, Qᵢ = Bᶜᵀ Sᵢ, Yᵢ = −(Bᶜ Sᵢ + 2 Iᶜ βᵢ), Zᵢ = Sᵢ ×* F′ᵢ + Bᶜ βᵢ − Iᶜ αᵢ
+/// into P, Qr, Y, Z and as the rows of G (Q, Z, Y, P; moments then forces); returns τᵢ = Sᵢ·Fᵢ.
+template <class S>
+SPATIAL_INLINE S derivative_rows(const Motion<S>& Si, const Inertia<S>& Ic, const VelocityCoupling<S>& M,
+                                 const Force<S>& hc, const Motion<S>& be, const Motion<S>& al, const Force<S>& Fp,
+                                 const Force<S>& F, Force<S>& P, Force<S>& Qr, Force<S>& Y, Force<S>& Z,
+                                 Eigen::Matrix<S, 4, 6>& G) {
+  using V = Vec<S>;
+  const V sw = load3z(Si.w.data()), sv = load3(Si.v.data());
+  const V bw = load3z(be.w.data()), bv = load3(be.v.data());
+  const V aw = load3z(al.w.data()), av = load3(al.v.data());
+  const V m = bcast(Ic.m), h = load3z(Ic.h.data());
+  const V ic[3] = {load3z(Ic.I.data()), load3z(Ic.I.data() + 3), load3(Ic.I.data() + 6)};
+  const V ma[3] = {load3z(M.A.data()), load3z(M.A.data() + 3), load3z(M.A.data() + 6)};
+  const V mk = load3(M.k.data());
+  const V hn = load3z(hc.n.data()), hf = load3(hc.f.data());
+  // I x = (Ī ω + h × u, m u − h × ω); (W + Wᵀ) x = (A ω + k × u, ω × k); x ×* (n, f) = (ω × n + u × f, ω × f)
+  auto inertia = [&](V xw, V xv, V& n, V& f) SPATIAL_LAMBDA_INLINE {
+    n = add(comb(ic[0], ic[1], ic[2], xw), cross(h, xv));
+    f = fmsub(m, xv, cross(h, xw));
+  };
+  auto coupling = [&](V xw, V xv, V& n, V& f) SPATIAL_LAMBDA_INLINE {
+    n = add(comb(ma[0], ma[1], ma[2], xw), cross(mk, xv));
+    f = cross(xw, mk);
+  };
+  auto cross_force = [](V xw, V xv, V fn, V ff, V& n, V& f) SPATIAL_LAMBDA_INLINE {
+    n = add(cross(xw, fn), cross(xv, ff));
+    f = cross(xw, ff);
+  };
+  V pn, pf, msn, msf, shn, shf, mbn, mbf, bhn, bhf, ibn, ibf, ian, iaf, sfn, sff;
+  inertia(sw, sv, pn, pf);
+  coupling(sw, sv, msn, msf);
+  cross_force(sw, sv, hn, hf, shn, shf);
+  coupling(bw, bv, mbn, mbf);
+  cross_force(bw, bv, hn, hf, bhn, bhf);
+  inertia(bw, bv, ibn, ibf);
+  inertia(aw, av, ian, iaf);
+  cross_force(sw, sv, load3z(Fp.n.data()), load3(Fp.f.data()), sfn, sff);
+  const V two = bcast(S(2));
+  const V qn = add(msn, shn), qf = add(msf, shf);                              // Bᶜᵀ S = M S + S ×* h
+  const V yn = fnmadd(two, ibn, sub(shn, msn)), yf = fnmadd(two, ibf, sub(shf, msf));  // −(M S − S ×* h + 2 I β)
+  const V zn = sub(add(sfn, sub(mbn, bhn)), ian), zf = sub(add(sff, sub(mbf, bhf)), iaf);  // S ×* F′ + Bᶜ β − I α
+  auto put = [](S* x, V first, V second) SPATIAL_LAMBDA_INLINE {
+    store4(x, first);
+    store3(x + 3, second);
+  };
+  put(P.n.data(), pn, pf);
+  put(Qr.n.data(), qn, qf);
+  put(Y.n.data(), yn, yf);
+  put(Z.n.data(), zn, zf);
+  V c[6];
+  rows_to_columns(qn, zn, yn, pn, c[0], c[1], c[2]);
+  rows_to_columns(qf, zf, yf, pf, c[3], c[4], c[5]);
+  S* g = G.data();
+  for (int j = 0; j < 6; ++j) store4(g + 4 * j, c[j]);
+  return hsum(fmadd(sw, load3z(F.n.data()), mul(sv, load3(F.f.data()))));
+}
 }  // namespace simd
 #endif
 
@@ -312,29 +387,41 @@ void rnea_derivatives_tree(const Model<S, T>& model, Data<S, T>& data, Derivativ
     const Motion<S>& Si = b.S0[k];
     const Inertia<S>& Ic = b.Ic[k];
     const VelocityCoupling<S>& M = b.M[k];
-    const Force<S> P = Ic * Si;
-    const Force<S> MS = M * Si;
-    const Force<S> Sh = cross(Si, b.hc[k]);
-    const Force<S> Qr = MS + Sh;              // Bᶜᵀ S
-    const Force<S> BS = MS - Sh;              // Bᶜ S
     const Motion<S>& be = b.beta[k];
-    const Force<S> Bb = M * be - cross(be, b.hc[k]);  // Bᶜ β
-    const Force<S> Y = -(BS + S(2) * (Ic * be));
     Force<S> Fp = b.F[k];
     Force<S> R = Force<S>::Zero();
     if (world_forces) {
       Fp += b.Fx[k];
       R = cross(Si, b.Fx[k]);
     }
-    const Force<S> Z = cross(Si, Fp) + Bb - Ic * b.alpha[k];
     const int r = off + i;
-    tau[r] = dot(Si, b.F[k]);
-    // Row i's four force-like vectors as the rows of G (moment first, as motions are angular first): each entry
-    // of row i and column i is a dot product of one of them with one of Sⱼ, βⱼ, αⱼ, and G [Sⱼ βⱼ αⱼ] gives all
-    // twelve of an ancestor j at once (three columns of four lanes: broadcasts and fused multiply-adds).
+    // Row i's four force-like vectors, also as the rows of G (moment first, as motions are angular first): each
+    // entry of row i and column i is a dot product of one of them with one of Sⱼ, βⱼ, αⱼ, and G [Sⱼ βⱼ αⱼ] gives
+    // all twelve of an ancestor j at once (three columns of four lanes: broadcasts and fused multiply-adds).
+    Force<S> P, Qr, Y, Z;
     Eigen::Matrix<S, 4, 6> G;
-    G << Qr.n.transpose(), Qr.f.transpose(), Z.n.transpose(), Z.f.transpose(), Y.n.transpose(), Y.f.transpose(),
-        P.n.transpose(), P.f.transpose();
+    bool rows_done = false;
+#if SPATIAL_SIMD_AVX2
+    if constexpr (simd_candidate<S, T>()) {
+      if (forward_done) {
+        tau[r] = simd::derivative_rows(Si, Ic, M, b.hc[k], be, b.alpha[k], Fp, b.F[k], P, Qr, Y, Z, G);
+        rows_done = true;
+      }
+    }
+#endif
+    if (!rows_done) {
+      P = Ic * Si;
+      const Force<S> MS = M * Si;
+      const Force<S> Sh = cross(Si, b.hc[k]);
+      Qr = MS + Sh;                                     // Bᶜᵀ S
+      const Force<S> BS = MS - Sh;                      // Bᶜ S
+      const Force<S> Bb = M * be - cross(be, b.hc[k]);  // Bᶜ β
+      Y = -(BS + S(2) * (Ic * be));
+      Z = cross(Si, Fp) + Bb - Ic * b.alpha[k];
+      tau[r] = dot(Si, b.F[k]);
+      G << Qr.n.transpose(), Qr.f.transpose(), Z.n.transpose(), Z.f.transpose(), Y.n.transpose(), Y.f.transpose(),
+          P.n.transpose(), P.f.transpose();
+    }
     {
       const Eigen::Matrix<S, 4, 3> D = G.lazyProduct(b.C[k]);
       dq(r, r) = D(0, 1) - D(3, 2);               // βᵢ·Qᵢ − αᵢ·Pᵢ
