@@ -177,11 +177,6 @@ void derivatives_forward(const Model<S, T>& model, Data<S, T>& data, Bodies& out
   else b = records<Body>(data, model.size());
   const V rvw = load3z(root.v.w.data()), rvv = load3(root.v.v.data());
   const V raw = load3z(root.a.w.data()), rav = load3(root.a.v.data());
-  // A motion (w, v) and a force (n, f) out of registers: the first store's fourth lane is overwritten by the second.
-  auto put = [](S* x, V first, V second) SPATIAL_LAMBDA_INLINE {
-    store4(x, first);
-    store3(x + 3, second);
-  };
   auto forward = [&](auto I, auto KC) SPATIAL_LAMBDA_INLINE {
     const int i = I;
     const auto k = static_cast<std::size_t>(i);
@@ -202,15 +197,15 @@ void derivatives_forward(const Model<S, T>& model, Data<S, T>& data, Bodies& out
     B.av = fnmadd(bv, dq, fmadd(sv, ddq, apv));
     const V alw = add(cross(sw, apw), cross(vpw, bw));
     const V alv = add(add(cross(sw, apv), cross(sv, apw)), add(cross(vpw, bv), cross(vpv, bw)));
-    put(out.S0[k].w.data(), sw, sv);
-    put(out.v[k].w.data(), B.vw, B.vv);
-    put(out.a[k].w.data(), B.aw, B.av);
-    put(out.beta[k].w.data(), bw, bv);
-    put(out.alpha[k].w.data(), alw, alv);
+    store_pair(out.S0[k].w.data(), sw, sv);
+    store_pair(out.v[k].w.data(), B.vw, B.vv);
+    store_pair(out.a[k].w.data(), B.aw, B.av);
+    store_pair(out.beta[k].w.data(), bw, bv);
+    store_pair(out.alpha[k].w.data(), alw, alv);
     S* C = out.C[k].data();  // [Sᵢ βᵢ αᵢ], column-major 6 × 3
-    put(C, sw, sv);
-    put(C + 6, bw, bv);
-    put(C + 12, alw, alv);
+    store_pair(C, sw, sv);
+    store_pair(C + 6, bw, bv);
+    store_pair(C + 12, alw, alv);
     // The body inertia in base coordinates (m, h, Ī by columns); h and Ī are contiguous in an Inertia.
     const Inertia<S>& I0 = model.inertia(i);
     const V ic0[3] = {load3z(I0.I.data()), load3z(I0.I.data() + 3), load3(I0.I.data() + 6)};
@@ -222,13 +217,14 @@ void derivatives_forward(const Model<S, T>& model, Data<S, T>& data, Bodies& out
     store4(In.I.data(), c[0]);
     store4(In.I.data() + 3, c[1]);
     store3(In.I.data() + 6, c[2]);
-    // I x = (Ī ω + h × u, m u − h × ω) for a motion x = (ω, u).
+    // The momentum Iᵢ vᵢ and the force Fᵢ = Iᵢ aᵢ + vᵢ ×* (Iᵢ vᵢ).
     const V m = bcast(I0.m);
-    const V hn = add(comb(c[0], c[1], c[2], B.vw), cross(h, B.vv)), hf = fmsub(m, B.vv, cross(h, B.vw));
-    const V ian = add(comb(c[0], c[1], c[2], B.aw), cross(h, B.av)), iaf = fmsub(m, B.av, cross(h, B.aw));
-    put(out.hc[k].n.data(), hn, hf);
-    // Fᵢ = Iᵢ aᵢ + vᵢ ×* (Iᵢ vᵢ), v ×* (n, f) = (ω × n + u × f, ω × f)
-    put(out.F[k].n.data(), add(ian, add(cross(B.vw, hn), cross(B.vv, hf))), add(iaf, cross(B.vw, hf)));
+    V hn, hf, ian, iaf, vhn, vhf;
+    inertia_times(c[0], c[1], c[2], h, m, B.vw, B.vv, hn, hf);
+    inertia_times(c[0], c[1], c[2], h, m, B.aw, B.av, ian, iaf);
+    cross_force(B.vw, B.vv, hn, hf, vhn, vhf);
+    store_pair(out.hc[k].n.data(), hn, hf);
+    store_pair(out.F[k].n.data(), add(ian, vhn), add(iaf, vhf));
     // VelocityCoupling::of: A = G + Gᵀ − 2 (h·u) 1 with G = Ī ω̃ + u hᵀ, whose row j is Īⱼ × ω + uⱼ h (Ī
     // symmetric: row j of Ī ω̃ is −ω × Īⱼ); A is symmetric, so row j of G + Gᵀ is also its column j. k = h × ω − m u.
     V g[3], gt[3];
@@ -264,12 +260,13 @@ SPATIAL_INLINE void rows_to_columns(Vf a, Vf b, Vf c, Vf d, Vf& c0, Vf& c1, Vf& 
 
 /// One body's row vectors of the backward pass of `rnea_derivatives_tree` with every 3-vector in a register (the
 /// trees of derivatives_forward): Pᵢ = Iᶜ Sᵢ, Qᵢ = Bᶜᵀ Sᵢ, Yᵢ = −(Bᶜ Sᵢ + 2 Iᶜ βᵢ), Zᵢ = Sᵢ ×* F′ᵢ + Bᶜ βᵢ − Iᶜ αᵢ
-/// into P, Qr, Y, Z and as the rows of G (Q, Z, Y, P; moments then forces); returns τᵢ = Sᵢ·Fᵢ.
+/// as the rows of G (Q, Z, Y, P; moments then forces) and, when `vectors` (only a free-flying root reads them), into
+/// P, Qr, Y, Z; returns τᵢ = Sᵢ·Fᵢ.
 template <class S>
 SPATIAL_INLINE S derivative_rows(const Motion<S>& Si, const Inertia<S>& Ic, const VelocityCoupling<S>& M,
                                  const Force<S>& hc, const Motion<S>& be, const Motion<S>& al, const Force<S>& Fp,
-                                 const Force<S>& F, Force<S>& P, Force<S>& Qr, Force<S>& Y, Force<S>& Z,
-                                 Eigen::Matrix<S, 4, 6>& G) {
+                                 const Force<S>& F, bool vectors, Force<S>& P, Force<S>& Qr, Force<S>& Y,
+                                 Force<S>& Z, Eigen::Matrix<S, 4, 6>& G) {
   using V = Vec<S>;
   const V sw = load3z(Si.w.data()), sv = load3(Si.v.data());
   const V bw = load3z(be.w.data()), bv = load3(be.v.data());
@@ -279,18 +276,13 @@ SPATIAL_INLINE S derivative_rows(const Motion<S>& Si, const Inertia<S>& Ic, cons
   const V ma[3] = {load3z(M.A.data()), load3z(M.A.data() + 3), load3z(M.A.data() + 6)};
   const V mk = load3(M.k.data());
   const V hn = load3z(hc.n.data()), hf = load3(hc.f.data());
-  // I x = (Ī ω + h × u, m u − h × ω); (W + Wᵀ) x = (A ω + k × u, ω × k); x ×* (n, f) = (ω × n + u × f, ω × f)
   auto inertia = [&](V xw, V xv, V& n, V& f) SPATIAL_LAMBDA_INLINE {
-    n = add(comb(ic[0], ic[1], ic[2], xw), cross(h, xv));
-    f = fmsub(m, xv, cross(h, xw));
+    inertia_times(ic[0], ic[1], ic[2], h, m, xw, xv, n, f);
   };
+  // (W + Wᵀ) x = (A ω + k × u, ω × k)
   auto coupling = [&](V xw, V xv, V& n, V& f) SPATIAL_LAMBDA_INLINE {
     n = add(comb(ma[0], ma[1], ma[2], xw), cross(mk, xv));
     f = cross(xw, mk);
-  };
-  auto cross_force = [](V xw, V xv, V fn, V ff, V& n, V& f) SPATIAL_LAMBDA_INLINE {
-    n = add(cross(xw, fn), cross(xv, ff));
-    f = cross(xw, ff);
   };
   V pn, pf, msn, msf, shn, shf, mbn, mbf, bhn, bhf, ibn, ibf, ian, iaf, sfn, sff;
   inertia(sw, sv, pn, pf);
@@ -305,14 +297,12 @@ SPATIAL_INLINE S derivative_rows(const Motion<S>& Si, const Inertia<S>& Ic, cons
   const V qn = add(msn, shn), qf = add(msf, shf);                              // Bᶜᵀ S = M S + S ×* h
   const V yn = fnmadd(two, ibn, sub(shn, msn)), yf = fnmadd(two, ibf, sub(shf, msf));  // −(M S − S ×* h + 2 I β)
   const V zn = sub(add(sfn, sub(mbn, bhn)), ian), zf = sub(add(sff, sub(mbf, bhf)), iaf);  // S ×* F′ + Bᶜ β − I α
-  auto put = [](S* x, V first, V second) SPATIAL_LAMBDA_INLINE {
-    store4(x, first);
-    store3(x + 3, second);
-  };
-  put(P.n.data(), pn, pf);
-  put(Qr.n.data(), qn, qf);
-  put(Y.n.data(), yn, yf);
-  put(Z.n.data(), zn, zf);
+  if (vectors) {
+    store_pair(P.n.data(), pn, pf);
+    store_pair(Qr.n.data(), qn, qf);
+    store_pair(Y.n.data(), yn, yf);
+    store_pair(Z.n.data(), zn, zf);
+  }
   V c[6];
   rows_to_columns(qn, zn, yn, pn, c[0], c[1], c[2]);
   rows_to_columns(qf, zf, yf, pf, c[3], c[4], c[5]);
@@ -404,7 +394,8 @@ void rnea_derivatives_tree(const Model<S, T>& model, Data<S, T>& data, Derivativ
 #if SPATIAL_SIMD_AVX2
     if constexpr (simd_candidate<S, T>()) {
       if (forward_done) {
-        tau[r] = simd::derivative_rows(Si, Ic, M, b.hc[k], be, b.alpha[k], Fp, b.F[k], P, Qr, Y, Z, G);
+        tau[r] = simd::derivative_rows(Si, Ic, M, b.hc[k], be, b.alpha[k], Fp, b.F[k], root.floating, P, Qr,
+                                       Y, Z, G);
         rows_done = true;
       }
     }

@@ -388,6 +388,20 @@ SPATIAL_INLINE void apply_force_inverse(const V row[3], V r, V fn, V ff, V& on, 
   on = add(comb(row[0], row[1], row[2], fn), cross(r, of));
 }
 
+/// I x = [Ī ω + h × u; m u − h × ω] for a rigid-body inertia (m in every lane, h, Ī by columns i0, i1, i2) and a
+/// motion x = (ω, u).
+template <class V>
+SPATIAL_INLINE void inertia_times(V i0, V i1, V i2, V h, V m, V xw, V xv, V& n, V& f) {
+  n = add(comb(i0, i1, i2, xw), cross(h, xv));
+  f = fmsub(m, xv, cross(h, xw));
+}
+/// x ×* (fn, ff) = [ω × fn + u × ff; ω × ff] for a motion x = (ω, u).
+template <class V>
+SPATIAL_INLINE void cross_force(V xw, V xv, V fn, V ff, V& n, V& f) {
+  n = add(cross(xw, fn), cross(xv, ff));
+  f = cross(xw, ff);
+}
+
 /// Keeps a per-body workspace in memory. Without this clang promotes every element of the (small, constant-indexed)
 /// array to a register value for the whole call and then spills: in ABA on stance21, ~2 800 spill and reload
 /// instructions and 10 % more time; with it, ~100. (An empty asm statement that may read and write the array.)
@@ -561,18 +575,14 @@ void rnea(const Model<S, T>& model, Data<S, T>& data, const Eigen::MatrixBase<Q>
     const S* J = In.I.data();
     const V j0 = load4(J), j1 = load4(J + 3), j2 = load3(J + 6);
     const V m = bcast(In.m);
-    auto inertia_times = [&](V mw, V mv, V& on, V& of) {
-      on = add(comb(j0, j1, j2, mw), cross(h, mv));
-      of = fmsub(m, mv, cross(h, mw));
-    };
     V fn, ff;
-    inertia_times(aw, av, fn, ff);
+    inertia_times(j0, j1, j2, h, m, aw, av, fn, ff);
     if constexpr (Vel) {
-      V pn, pf;
-      inertia_times(vw, vv, pn, pf);
-      // v ×* p = [ω × n + v × f; ω × f]
-      fn = add(fn, add(cross(vw, pn), cross(vv, pf)));
-      ff = add(ff, cross(vw, pf));
+      V pn, pf, cn, cf;
+      inertia_times(j0, j1, j2, h, m, vw, vv, pn, pf);
+      cross_force(vw, vv, pn, pf, cn, cf);  // v ×* p
+      fn = add(fn, cn);
+      ff = add(ff, cf);
     }
     w.fn[i] = fn;
     w.ff[i] = ff;
