@@ -104,7 +104,7 @@ struct DerivativeBodies {
   explicit DerivativeBodies(const ModelType& model) {
     if constexpr (!ModelType::is_static) {
       const auto k = static_cast<std::size_t>(model.size());
-      S0.resize(k); v.resize(k); a.resize(k); alpha.resize(k); beta.resize(k); C.resize(k);
+      S0.resize(k); v.resize(k); a.resize(k); alpha.resize(k); beta.resize(k); C.resize(k); W.resize(k);
       Ic.resize(k); M.resize(k); hc.resize(k); F.resize(k); Fx.resize(k);
     } else {
       (void)model;
@@ -119,6 +119,10 @@ struct DerivativeBodies {
   /// [Sᵢ βᵢ αᵢ] as the columns of one 6 × 3 matrix (angular rows first), for the walk over the ancestors, where one
   /// row's four force-like vectors are paired with all three at once (`rnea_derivatives_tree`).
   Array<Eigen::Matrix<S, 6, 3>> C{};
+  /// The AVX2 path's form of the same (`simd::derivatives_forward`, `simd::WalkRow`): for each of the six
+  /// components k (angular first) the lanes (Sₖ, Sₖ, Sₖ, αₖ), then six times (βₖ, βₖ, βₖ, βₖ); so that a row's four
+  /// vectors meet an ancestor's in two sums of six fused multiply-adds of whole registers.
+  Array<Eigen::Matrix<S, 4, 12>> W{};
   Array<Inertia<S>> Ic{};    ///< subtree inertia
   Array<VelocityCoupling<S>> M{};  ///< W + Wᵀ, W = Σ over the subtree of Iₖ (vₖ×)
   Array<Force<S>> hc{};      ///< subtree momentum Σ Iₖ vₖ
@@ -202,10 +206,19 @@ void derivatives_forward(const Model<S, T>& model, Data<S, T>& data, Bodies& out
     store_pair(out.a[k].w.data(), B.aw, B.av);
     store_pair(out.beta[k].w.data(), bw, bv);
     store_pair(out.alpha[k].w.data(), alw, alv);
-    S* C = out.C[k].data();  // [Sᵢ βᵢ αᵢ], column-major 6 × 3
-    store_pair(C, sw, sv);
-    store_pair(C + 6, bw, bv);
-    store_pair(C + 12, alw, alv);
+    S* W = out.W[k].data();  // (Sₖ, Sₖ, Sₖ, αₖ) and (βₖ, βₖ, βₖ, βₖ), k = 0 … 5
+    store4(W, low3_high1(lane<0>(sw), lane<0>(alw)));
+    store4(W + 4, low3_high1(lane<1>(sw), lane<1>(alw)));
+    store4(W + 8, low3_high1(lane<2>(sw), lane<2>(alw)));
+    store4(W + 12, low3_high1(lane<0>(sv), lane<0>(alv)));
+    store4(W + 16, low3_high1(lane<1>(sv), lane<1>(alv)));
+    store4(W + 20, low3_high1(lane<2>(sv), lane<2>(alv)));
+    store4(W + 24, lane<0>(bw));
+    store4(W + 28, lane<1>(bw));
+    store4(W + 32, lane<2>(bw));
+    store4(W + 36, lane<0>(bv));
+    store4(W + 40, lane<1>(bv));
+    store4(W + 44, lane<2>(bv));
     // The body inertia in base coordinates (m, h, Ī by columns); h and Ī are contiguous in an Inertia.
     const Inertia<S>& I0 = model.inertia(i);
     const V ic0[3] = {load3z(I0.I.data()), load3z(I0.I.data() + 3), load3(I0.I.data() + 6)};
@@ -310,6 +323,32 @@ SPATIAL_INLINE S derivative_rows(const Motion<S>& Si, const Inertia<S>& Ic, cons
   for (int j = 0; j < 6; ++j) store4(g + 4 * j, c[j]);
   return hsum(fmadd(sw, load3z(F.n.data()), mul(sv, load3(F.f.data()))));
 }
+
+/// One row's entries for one ancestor j (or the row's own body) from G (rows Q, Z, Y, P) and j's `W`:
+/// l1 = (Q·Sⱼ, Z·Sⱼ, Y·Sⱼ, P·αⱼ), l2 = (Q·βⱼ, Z·βⱼ, Y·βⱼ, P·βⱼ), and e = (∂τᵢ/∂qⱼ, ∂τᵢ/∂q̇ⱼ, ∂τⱼ/∂qᵢ, ∂τⱼ/∂q̇ᵢ) =
+/// (βⱼ·Q − αⱼ·P, −Sⱼ·Q − 2 βⱼ·P, Sⱼ·Z, Sⱼ·Y).
+template <class S>
+struct WalkRow {
+  using V = Vec<S>;
+  V g[6];
+  explicit WalkRow(const Eigen::Matrix<S, 4, 6>& G) {
+    for (int k = 0; k < 6; ++k) g[k] = load4(G.data() + 4 * k);
+  }
+  SPATIAL_INLINE void operator()(const S* w, S* e) const {
+    V l1 = mul(g[0], load4(w)), l2 = mul(g[0], load4(w + 24));
+    for (int k = 1; k < 6; ++k) {
+      l1 = fmadd(g[k], load4(w + 4 * k), l1);
+      l2 = fmadd(g[k], load4(w + 24 + 4 * k), l2);
+    }
+    alignas(32) S t1[4], t2[4];
+    store4(t1, l1);
+    store4(t2, l2);
+    e[0] = t2[0] - t1[3];
+    e[1] = -t1[0] - S(2) * t2[3];
+    e[2] = t1[1];
+    e[3] = t1[2];
+  }
+};
 }  // namespace simd
 #endif
 
@@ -413,22 +452,43 @@ void rnea_derivatives_tree(const Model<S, T>& model, Data<S, T>& data, Derivativ
       G << Qr.n.transpose(), Qr.f.transpose(), Z.n.transpose(), Z.f.transpose(), Y.n.transpose(), Y.f.transpose(),
           P.n.transpose(), P.f.transpose();
     }
-    {
-      const Eigen::Matrix<S, 4, 3> D = G.lazyProduct(b.C[k]);
-      dq(r, r) = D(0, 1) - D(3, 2);               // βᵢ·Qᵢ − αᵢ·Pᵢ
-      dv(r, r) = -D(0, 0) - S(2) * D(3, 1);       // −Sᵢ·Qᵢ − 2 βᵢ·Pᵢ
+    // Row i's entries with body i itself, then with each ancestor j: pair(j, e) gives e = (βⱼ·Qᵢ − αⱼ·Pᵢ,
+    // −Sⱼ·Qᵢ − 2 βⱼ·Pᵢ, Sⱼ·Zᵢ, Sⱼ·Yᵢ).
+    auto walk = [&](auto&& pair) {
+      S e[4];
+      pair(k, e);
+      dq(r, r) = e[0];
+      dv(r, r) = e[1];
+      walk_up(model, I, [&](auto, auto J) {
+        const auto jk = static_cast<std::size_t>(int(J));
+        const int c = off + int(J);
+        pair(jk, e);
+        if (world_forces) e[0] -= dot(b.S0[jk], R);
+        dq(r, c) = e[0];
+        dv(r, c) = e[1];
+        dq(c, r) = e[2];
+        dv(c, r) = e[3];
+      });
+    };
+    bool walked = false;
+#if SPATIAL_SIMD_AVX2
+    if constexpr (simd_candidate<S, T>()) {
+      if (forward_done) {
+        const simd::WalkRow<S> row(G);
+        walk([&](std::size_t j, S* e) SPATIAL_LAMBDA_INLINE { row(b.W[j].data(), e); });
+        walked = true;
+      }
     }
-    walk_up(model, I, [&](auto, auto J) {
-      const auto jk = static_cast<std::size_t>(int(J));
-      const int c = off + int(J);
-      const Eigen::Matrix<S, 4, 3> D = G.lazyProduct(b.C[jk]);
-      S x = D(0, 1) - D(3, 2);                    // βⱼ·Qᵢ − αⱼ·Pᵢ
-      if (world_forces) x -= dot(b.S0[jk], R);
-      dq(r, c) = x;
-      dv(r, c) = -D(0, 0) - S(2) * D(3, 1);       // −Sⱼ·Qᵢ − 2 βⱼ·Pᵢ
-      dq(c, r) = D(1, 0);                         // Sⱼ·Zᵢ
-      dv(c, r) = D(2, 0);                         // Sⱼ·Yᵢ
-    });
+#endif
+    if (!walked) {
+      walk([&](std::size_t j, S* e) {
+        const Eigen::Matrix<S, 4, 3> D = G.lazyProduct(b.C[j]);
+        e[0] = D(0, 1) - D(3, 2);
+        e[1] = -D(0, 0) - S(2) * D(3, 1);
+        e[2] = D(1, 0);
+        e[3] = D(2, 0);
+      });
+    }
     if (root.floating) {
       // The free-flyer's rows for column i (S_b·Z, S_b·Y, linear first) and its columns for row i.
       for (int c = 0; c < 3; ++c) {
@@ -496,8 +556,8 @@ struct DerivativeBuffers {
   static constexpr int kPadded = kCols == Eigen::Dynamic ? 0 : (kCols + kPacket - 1) / kPacket * kPacket;
   /// aba_derivatives' copy of H⁻¹ with rows of zeros below it up to a whole number of Eigen's packets (compile-time
   /// sizes only), so that its columns are whole packets (`aba_derivatives_products`).
-  Eigen::Matrix<S, kPadded, kCols == Eigen::Dynamic ? 0 : kCols> minv_padded =
-      Eigen::Matrix<S, kPadded, kCols == Eigen::Dynamic ? 0 : kCols>::Zero();
+  using PaddedMatrix = Eigen::Matrix<S, kPadded, kCols == Eigen::Dynamic ? 0 : kCols>;
+  PaddedMatrix minv_padded = PaddedMatrix::Zero();
 };
 }  // namespace detail
 
@@ -627,33 +687,82 @@ void rnea_derivatives(const FloatingModel<S, T>& model, FloatingData<S, T>& data
 
 namespace detail {
 /// ∂q̈/∂τ = H⁻¹, ∂q̈/∂q = −H⁻¹ ∂τ/∂q, ∂q̈/∂v = −H⁻¹ ∂τ/∂v. H⁻¹ is dense but ∂τ/∂q and ∂τ/∂v have H's pattern
-/// (`support_rows`), so column c of each product sums only the columns of H⁻¹ of the joints related to c: 171 of
-/// 441 per product for stance21, 459 of 729 for floating27. (Eigen's dense product, its blocked kernel and packing,
-/// took a quarter of `aba_derivatives`' instructions on stance21.) With compile-time sizes H⁻¹ is read from
-/// `minv_padded`, whose columns are whole packets: the column sums stay in registers (n = 21 is no multiple of a
-/// packet, and Eigen went through 2-wide packets for a column of H⁻¹ itself).
+/// (`support_rows`), so column c of each product sums only the columns of H⁻¹ of the joints related to c: 301 of
+/// 441 per product for stance21 (rooted at a sole, the stance leg is everyone's ancestor), 409 of 729 for
+/// floating27. (Eigen's dense product, its blocked kernel and packing, took a quarter of `aba_derivatives`'
+/// instructions on stance21.) With compile-time sizes H⁻¹ is read from `minv_padded`, whose columns are whole
+/// packets: the column sums stay in registers (n = 21 is no multiple of a packet, and Eigen went through 2-wide
+/// packets for a column of H⁻¹ itself).
 template <class DD, class M>
 void aba_derivatives_products(DD& dd, const M& Minv) {
+  using S = typename M::Scalar;
   constexpr int N = std::decay_t<DD>::kCols, P = std::decay_t<DD>::kPadded;
   dd.dqdd_dtau = Minv;
-  if constexpr (P != 0) dd.minv_padded.template topRows<N>() = Minv;
   const int* const rows = dd.support_rows.data();
-  for (Eigen::Index c = 0; c < Minv.cols(); ++c) {
-    const int t0 = dd.support_start[static_cast<std::size_t>(c)];
-    const int t1 = dd.support_start[static_cast<std::size_t>(c) + 1];  // > t0: row c itself
-    auto sum = [&](const auto& Mi, const auto& D, auto&& y) {
-      y.noalias() = Mi.col(rows[t0]) * -D(rows[t0], c);
-      for (int t = t0 + 1; t < t1; ++t) y.noalias() -= Mi.col(rows[t]) * D(rows[t], c);
-    };
-    if constexpr (P != 0) {
-      Eigen::Matrix<typename M::Scalar, P, 1> y;
-      sum(dd.minv_padded, dd.dtau_dq, y);
-      dd.dqdd_dq.col(c) = y.template head<N>();
-      sum(dd.minv_padded, dd.dtau_dv, y);
-      dd.dqdd_dv.col(c) = y.template head<N>();
-    } else {
-      sum(Minv, dd.dtau_dq, dd.dqdd_dq.col(c));
-      sum(Minv, dd.dtau_dv, dd.dqdd_dv.col(c));
+  constexpr int L = std::decay_t<DD>::kPacket, K = P / L;
+  // Both products' columns (2 K packets) and the two broadcasts must fit the vector registers, or they spill
+  // (floating27 on AVX2: 2 · 7 + 2 > 16, which made clang's ABA derivatives 15 % slower than one product at a time).
+  constexpr bool in_registers = P != 0 && std::is_floating_point_v<S> &&
+                                2 * K + 3 <= EIGEN_ARCH_DEFAULT_NUMBER_OF_REGISTERS;
+  if constexpr (P != 0) dd.minv_padded.template topRows<N>() = Minv;
+  if constexpr (in_registers) {
+    // Column c of both products at once, in 2 K packets: each column of H⁻¹ is loaded once for the two.
+    using Packet = typename Eigen::internal::packet_traits<S>::type;
+    constexpr int Whole = N / L;
+    const S* const mi = dd.minv_padded.data();
+    const S* const dq = dd.dtau_dq.data();
+    const S* const dv = dd.dtau_dv.data();
+    for (int c = 0; c < N; ++c) {
+      Packet yq[K], yv[K];
+      for (int k = 0; k < K; ++k) yq[k] = yv[k] = Eigen::internal::pset1<Packet>(S(0));
+      const int t0 = dd.support_start[static_cast<std::size_t>(c)];
+      const int t1 = dd.support_start[static_cast<std::size_t>(c) + 1];
+      for (int t = t0; t < t1; ++t) {
+        const int r = rows[t];
+        const Packet bq = Eigen::internal::pset1<Packet>(-dq[c * N + r]);
+        const Packet bv = Eigen::internal::pset1<Packet>(-dv[c * N + r]);
+        const S* const col = mi + r * P;
+        for (int k = 0; k < K; ++k) {
+          const Packet m = Eigen::internal::ploadu<Packet>(col + k * L);
+          yq[k] = Eigen::internal::pmadd(m, bq, yq[k]);
+          yv[k] = Eigen::internal::pmadd(m, bv, yv[k]);
+        }
+      }
+      S* const oq = dd.dqdd_dq.data() + c * N;
+      S* const ov = dd.dqdd_dv.data() + c * N;
+      for (int k = 0; k < Whole; ++k) {
+        Eigen::internal::pstoreu(oq + k * L, yq[k]);
+        Eigen::internal::pstoreu(ov + k * L, yv[k]);
+      }
+      if constexpr (N % L != 0) {
+        alignas(64) S tail[2][L];
+        Eigen::internal::pstoreu(tail[0], yq[Whole]);
+        Eigen::internal::pstoreu(tail[1], yv[Whole]);
+        for (int i = 0; i < N % L; ++i) {
+          oq[Whole * L + i] = tail[0][i];
+          ov[Whole * L + i] = tail[1][i];
+        }
+      }
+    }
+  } else {
+    // One product after the other, column by column (AD scalars, run-time sizes, and trees too large for the above).
+    for (Eigen::Index c = 0; c < Minv.cols(); ++c) {
+      const int t0 = dd.support_start[static_cast<std::size_t>(c)];
+      const int t1 = dd.support_start[static_cast<std::size_t>(c) + 1];  // > t0: row c itself
+      auto sum = [&](const auto& Mi, const auto& D, auto&& y) {
+        y.noalias() = Mi.col(rows[t0]) * -D(rows[t0], c);
+        for (int t = t0 + 1; t < t1; ++t) y.noalias() -= Mi.col(rows[t]) * D(rows[t], c);
+      };
+      if constexpr (P != 0) {
+        Eigen::Matrix<S, P, 1> y;
+        sum(dd.minv_padded, dd.dtau_dq, y);
+        dd.dqdd_dq.col(c) = y.template head<N>();
+        sum(dd.minv_padded, dd.dtau_dv, y);
+        dd.dqdd_dv.col(c) = y.template head<N>();
+      } else {
+        sum(Minv, dd.dtau_dq, dd.dqdd_dq.col(c));
+        sum(Minv, dd.dtau_dv, dd.dqdd_dv.col(c));
+      }
     }
   }
 }

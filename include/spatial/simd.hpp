@@ -203,6 +203,9 @@ template <int L, class W>
 SPATIAL_INLINE W only(W s) {
   return mul(s, set<W>(L == 0, L == 1, L == 2, L == 3));
 }
+/// Lanes 0, 1, 2 of a and lane 3 of b.
+SPATIAL_INLINE Vd low3_high1(Vd a, Vd b) { return _mm256_blend_pd(a, b, 0x8); }
+SPATIAL_INLINE Vf low3_high1(Vf a, Vf b) { return _mm_blend_ps(a, b, 0x8); }
 /// x with lane L set to 0.
 template <int L>
 SPATIAL_INLINE Vd clear(Vd x) {
