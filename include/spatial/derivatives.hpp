@@ -94,6 +94,22 @@ struct VelocityCoupling {
   }
 };
 
+/// Whether the AVX2 path of `rnea_derivatives` stores and walks `DerivativeBodies::W` rather than `C`: on deep trees,
+/// where the walk's savings per (body, ancestor) pair outweigh W's cost per body, i.e. at least four ancestors per
+/// body on average (stance21, rooted at a sole: 6.7; floating27's tree, rooted at the pelvis: 2.4, where W made
+/// clang's RNEA derivatives 4 % slower). Run-time trees take W.
+template <class T>
+constexpr bool walk_lanes() {
+  if constexpr (is_static_tree_v<T>) {
+    int pairs = 0;  // (body, proper ancestor) pairs
+    for (int i = 0; i < T::size; ++i)
+      for (int a = T::parent[static_cast<std::size_t>(i)]; a >= 0; a = T::parent[static_cast<std::size_t>(a)]) ++pairs;
+    return pairs >= 4 * T::size;
+  } else {
+    return true;
+  }
+}
+
 /// Per-body buffers of `rnea_derivatives` (base coordinates).
 template <class S, class T>
 struct DerivativeBodies {
@@ -206,19 +222,26 @@ void derivatives_forward(const Model<S, T>& model, Data<S, T>& data, Bodies& out
     store_pair(out.a[k].w.data(), B.aw, B.av);
     store_pair(out.beta[k].w.data(), bw, bv);
     store_pair(out.alpha[k].w.data(), alw, alv);
-    S* W = out.W[k].data();  // (Sₖ, Sₖ, Sₖ, αₖ) and (βₖ, βₖ, βₖ, βₖ), k = 0 … 5
-    store4(W, low3_high1(lane<0>(sw), lane<0>(alw)));
-    store4(W + 4, low3_high1(lane<1>(sw), lane<1>(alw)));
-    store4(W + 8, low3_high1(lane<2>(sw), lane<2>(alw)));
-    store4(W + 12, low3_high1(lane<0>(sv), lane<0>(alv)));
-    store4(W + 16, low3_high1(lane<1>(sv), lane<1>(alv)));
-    store4(W + 20, low3_high1(lane<2>(sv), lane<2>(alv)));
-    store4(W + 24, lane<0>(bw));
-    store4(W + 28, lane<1>(bw));
-    store4(W + 32, lane<2>(bw));
-    store4(W + 36, lane<0>(bv));
-    store4(W + 40, lane<1>(bv));
-    store4(W + 44, lane<2>(bv));
+    if constexpr (walk_lanes<T>()) {
+      S* W = out.W[k].data();  // (Sₖ, Sₖ, Sₖ, αₖ) and (βₖ, βₖ, βₖ, βₖ), k = 0 … 5
+      store4(W, low3_high1(lane<0>(sw), lane<0>(alw)));
+      store4(W + 4, low3_high1(lane<1>(sw), lane<1>(alw)));
+      store4(W + 8, low3_high1(lane<2>(sw), lane<2>(alw)));
+      store4(W + 12, low3_high1(lane<0>(sv), lane<0>(alv)));
+      store4(W + 16, low3_high1(lane<1>(sv), lane<1>(alv)));
+      store4(W + 20, low3_high1(lane<2>(sv), lane<2>(alv)));
+      store4(W + 24, lane<0>(bw));
+      store4(W + 28, lane<1>(bw));
+      store4(W + 32, lane<2>(bw));
+      store4(W + 36, lane<0>(bv));
+      store4(W + 40, lane<1>(bv));
+      store4(W + 44, lane<2>(bv));
+    } else {
+      S* C = out.C[k].data();  // [Sᵢ βᵢ αᵢ], column-major 6 × 3
+      store_pair(C, sw, sv);
+      store_pair(C + 6, bw, bv);
+      store_pair(C + 12, alw, alv);
+    }
     // The body inertia in base coordinates (m, h, Ī by columns); h and Ī are contiguous in an Inertia.
     const Inertia<S>& I0 = model.inertia(i);
     const V ic0[3] = {load3z(I0.I.data()), load3z(I0.I.data() + 3), load3(I0.I.data() + 6)};
@@ -452,41 +475,47 @@ void rnea_derivatives_tree(const Model<S, T>& model, Data<S, T>& data, Derivativ
       G << Qr.n.transpose(), Qr.f.transpose(), Z.n.transpose(), Z.f.transpose(), Y.n.transpose(), Y.f.transpose(),
           P.n.transpose(), P.f.transpose();
     }
-    // Row i's entries with body i itself, then with each ancestor j: pair(j, e) gives e = (βⱼ·Qᵢ − αⱼ·Pᵢ,
-    // −Sⱼ·Qᵢ − 2 βⱼ·Pᵢ, Sⱼ·Zᵢ, Sⱼ·Yᵢ).
-    auto walk = [&](auto&& pair) {
-      S e[4];
-      pair(k, e);
-      dq(r, r) = e[0];
-      dv(r, r) = e[1];
-      walk_up(model, I, [&](auto, auto J) {
-        const auto jk = static_cast<std::size_t>(int(J));
-        const int c = off + int(J);
-        pair(jk, e);
-        if (world_forces) e[0] -= dot(b.S0[jk], R);
-        dq(r, c) = e[0];
-        dv(r, c) = e[1];
-        dq(c, r) = e[2];
-        dv(c, r) = e[3];
-      });
-    };
     bool walked = false;
 #if SPATIAL_SIMD_AVX2
-    if constexpr (simd_candidate<S, T>()) {
+    if constexpr (simd_candidate<S, T>() && walk_lanes<T>()) {
       if (forward_done) {
+        // Row i's entries with body i itself, then with each ancestor j: e = (βⱼ·Qᵢ − αⱼ·Pᵢ, −Sⱼ·Qᵢ − 2 βⱼ·Pᵢ,
+        // Sⱼ·Zᵢ, Sⱼ·Yᵢ) from Wⱼ.
         const simd::WalkRow<S> row(G);
-        walk([&](std::size_t j, S* e) SPATIAL_LAMBDA_INLINE { row(b.W[j].data(), e); });
+        S e[4];
+        row(b.W[k].data(), e);
+        dq(r, r) = e[0];
+        dv(r, r) = e[1];
+        walk_up(model, I, [&](auto, auto J) {
+          const auto jk = static_cast<std::size_t>(int(J));
+          const int c = off + int(J);
+          row(b.W[jk].data(), e);
+          if (world_forces) e[0] -= dot(b.S0[jk], R);
+          dq(r, c) = e[0];
+          dv(r, c) = e[1];
+          dq(c, r) = e[2];
+          dv(c, r) = e[3];
+        });
         walked = true;
       }
     }
 #endif
-    if (!walked) {
-      walk([&](std::size_t j, S* e) {
-        const Eigen::Matrix<S, 4, 3> D = G.lazyProduct(b.C[j]);
-        e[0] = D(0, 1) - D(3, 2);
-        e[1] = -D(0, 0) - S(2) * D(3, 1);
-        e[2] = D(1, 0);
-        e[3] = D(2, 0);
+    if (!walked) {  // the same entries from G Cⱼ
+      {
+        const Eigen::Matrix<S, 4, 3> D = G.lazyProduct(b.C[k]);
+        dq(r, r) = D(0, 1) - D(3, 2);
+        dv(r, r) = -D(0, 0) - S(2) * D(3, 1);
+      }
+      walk_up(model, I, [&](auto, auto J) {
+        const auto jk = static_cast<std::size_t>(int(J));
+        const int c = off + int(J);
+        const Eigen::Matrix<S, 4, 3> D = G.lazyProduct(b.C[jk]);
+        S x = D(0, 1) - D(3, 2);
+        if (world_forces) x -= dot(b.S0[jk], R);
+        dq(r, c) = x;
+        dv(r, c) = -D(0, 0) - S(2) * D(3, 1);
+        dq(c, r) = D(1, 0);
+        dv(c, r) = D(2, 0);
       });
     }
     if (root.floating) {

@@ -382,29 +382,51 @@ void minv_rows(const Model<S, T>& model, Buffers& md, int off, const RootBlock* 
   }
 }
 
-/// Upper triangle ← lower triangle, in 4 × 4 blocks (each a transposed copy of contiguous columns of four) where
-/// whole blocks fit, element by element elsewhere.
+/// Upper triangle ← lower triangle, in L × L blocks where whole blocks fit, element by element elsewhere. For
+/// float and double each block below the diagonal is L loads of Eigen's packets of (at most) four (its contiguous
+/// columns), Eigen's in-register transpose (`ptranspose`: shuffles on AVX, AVX-512 and NEON alike; L = 4, or 2 for
+/// double on SSE2 and NEON) and L packet stores; other scalars copy 4 × 4 blocks entry by entry. (Wider blocks, 8 × 8
+/// of AVX-512, would leave most of n = 21 to the element-wise tail, and GCC 12 warns inside their transpose.)
+#if defined(__GNUC__)
+#pragma GCC diagnostic push
+// Packet types as template arguments (PacketBlock, unpacket_traits) lose their vector attributes, harmlessly: the
+// same warning that Eigen silences in its own headers.
+#pragma GCC diagnostic ignored "-Wignored-attributes"
+#endif
 template <class Matrix>
 void minv_symmetrize(Matrix& M) {
   using S = typename Matrix::Scalar;
+  using Packet = typename Eigen::internal::find_best_packet<S, 4>::type;
+  constexpr bool Packets = std::is_floating_point_v<S> && Eigen::internal::packet_traits<S>::Vectorizable;
+  constexpr int L = Packets ? Eigen::internal::unpacket_traits<Packet>::size : 4;
   const auto n = M.rows();
-  const Eigen::Index whole = n - n % 4;
-  for (Eigen::Index jb = 0; jb < whole; jb += 4) {
-    for (Eigen::Index j = jb; j < jb + 4; ++j)
-      for (Eigen::Index i = j + 1; i < jb + 4; ++i) M(j, i) = M(i, j);
-    for (Eigen::Index ib = jb + 4; ib < whole; ib += 4) {
-      S b[4][4];
-      for (int k = 0; k < 4; ++k)
-        for (int l = 0; l < 4; ++l) b[k][l] = M(ib + l, jb + k);
-      for (int l = 0; l < 4; ++l)
-        for (int k = 0; k < 4; ++k) M(jb + k, ib + l) = b[k][l];
+  const Eigen::Index whole = n - n % L;
+  for (Eigen::Index jb = 0; jb < whole; jb += L) {
+    for (Eigen::Index j = jb; j < jb + L; ++j)
+      for (Eigen::Index i = j + 1; i < jb + L; ++i) M(j, i) = M(i, j);
+    for (Eigen::Index ib = jb + L; ib < whole; ib += L) {
+      if constexpr (Packets) {
+        Eigen::internal::PacketBlock<Packet, L> b;
+        for (int k = 0; k < L; ++k) b.packet[k] = Eigen::internal::ploadu<Packet>(&M(ib, jb + k));
+        Eigen::internal::ptranspose(b);
+        for (int l = 0; l < L; ++l) Eigen::internal::pstoreu(&M(jb, ib + l), b.packet[l]);
+      } else {
+        S b[L][L];
+        for (int k = 0; k < L; ++k)
+          for (int l = 0; l < L; ++l) b[k][l] = M(ib + l, jb + k);
+        for (int l = 0; l < L; ++l)
+          for (int k = 0; k < L; ++k) M(jb + k, ib + l) = b[k][l];
+      }
     }
     for (Eigen::Index i = whole; i < n; ++i)
-      for (Eigen::Index j = jb; j < jb + 4; ++j) M(j, i) = M(i, j);
+      for (Eigen::Index j = jb; j < jb + L; ++j) M(j, i) = M(i, j);
   }
   for (Eigen::Index j = whole; j < n; ++j)
     for (Eigen::Index i = j + 1; i < n; ++i) M(j, i) = M(i, j);
 }
+#if defined(__GNUC__)
+#pragma GCC diagnostic pop
+#endif
 }  // namespace detail
 
 /// Buffers and result (`Minv`, n × n) of the fixed-base `inverse_inertia`, allocated once here.
@@ -429,8 +451,10 @@ template <bool Simd, class S, class T, class Q>
 const typename MinvData<S, T>::Matrix& inverse_inertia_impl(const Model<S, T>& model, Data<S, T>& data,
                                                             MinvData<S, T>& md, const Eigen::MatrixBase<Q>& q) {
   joint_sincos(model, data, q);
-  // Entries (j, i), j > i, where i is not an ancestor of j get no pass-2 term: start them from zero.
-  md.Minv.template triangularView<Eigen::StrictlyLower>().setZero();
+  // Entries (j, i), j > i, where i is not an ancestor of j get no pass-2 term: start them from zero. (The whole
+  // matrix: whole packets, cheaper than the strict lower triangle's ragged columns; the upper triangle is
+  // overwritten by minv_symmetrize.)
+  md.Minv.setZero();
   minv_first<Simd>(model, data, md, q, static_cast<ArticulatedInertia<S>*>(nullptr));
   minv_second<Simd>(model, md, 0, [](int, const Force<S>&) {});
   minv_rows(model, md, 0, static_cast<const typename MinvData<S, T>::Block*>(nullptr));
@@ -449,7 +473,7 @@ const typename FloatingMinvData<S, T>::Matrix& inverse_inertia_impl(const Floati
   data.X0 = root_transform<S>(q);
   joint_sincos(tree, td, qj);
   auto& M = md.Minv;
-  M.template triangularView<Eigen::StrictlyLower>().setZero();
+  M.setZero();  // as in the fixed-base version
   // Pass 1, and the root's articulated inertia D₀ = Iᴬ₀ (angular first), inverted through its Cholesky factor.
   ArticulatedInertia<S> IA0(model.root_inertia());
   minv_first<Simd>(tree, td, md, qj, &IA0);
