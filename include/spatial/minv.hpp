@@ -47,6 +47,7 @@ struct MinvBuffers {
     if constexpr (!ModelType::is_static) {
       const auto k = static_cast<std::size_t>(tree.size());
       S0.resize(k);
+      SD.resize(k);
       IA.resize(k);
       U.resize(k);
       Dinv.resize(k);
@@ -57,6 +58,7 @@ struct MinvBuffers {
 
   Matrix Minv;                     ///< H⁻¹ (result)
   Array<Motion<S>> S0{};           ///< joint axes in base coordinates
+  Array<Motion<S>> SD{};           ///< pass 2 (AVX2): −Sᵢ / Dᵢ, the axes scaled once per call
   Array<ArticulatedInertia<S>> IA{};  ///< articulated-body inertias in base coordinates
   Array<Force<S>> U{};             ///< Uᵢ = Iᴬᵢ Sᵢ
   Array<S> Dinv{};                 ///< 1 / Dᵢ
@@ -213,6 +215,15 @@ template <class S, class T, class Buffers, class RootForce>
 void minv_columns(const Model<S, T>& model, Buffers& md, int off, RootForce&& root_force) {
   using V = Vec<S>;
   auto& M = md.Minv;
+  // Each column's walk up its ancestors is a chain of dependent steps (m from f, then f from m): −Sₐ / Dₐ is
+  // computed here, off that chain, and the dot product is summed into all four lanes (hsum_all), so that a step is
+  // a product, a fused multiply-add, the sum, and the update of f (no scalar multiply, no broadcast).
+  for (int a = 0; a < model.size(); ++a) {
+    const auto ak = static_cast<std::size_t>(a);
+    const V nd = bcast(-md.Dinv[ak]);
+    store4(md.SD[ak].w.data(), mul(load3z(md.S0[ak].w.data()), nd));
+    store3(md.SD[ak].v.data(), mul(load3(md.S0[ak].v.data()), nd));
+  }
   for (int j = 0; j < model.size(); ++j) {
     const auto jk = static_cast<std::size_t>(j);
     const S dj = md.Dinv[jk];
@@ -221,10 +232,9 @@ void minv_columns(const Model<S, T>& model, Buffers& md, int off, RootForce&& ro
     V fn = mul(load3z(md.U[jk].n.data()), bj), ff = mul(load3(md.U[jk].f.data()), bj);
     for (int a = model.parent(j); a >= 0; a = model.parent(a)) {
       const auto ak = static_cast<std::size_t>(a);
-      const Motion<S>& s = md.S0[ak];
-      const S m = -md.Dinv[ak] * hsum(fmadd(load3z(s.w.data()), fn, mul(load3(s.v.data()), ff)));
-      M(off + j, off + a) = m;
-      const V bm = bcast(m);
+      const Motion<S>& s = md.SD[ak];
+      const V bm = hsum_all(fmadd(load3z(s.w.data()), fn, mul(load3(s.v.data()), ff)));
+      M(off + j, off + a) = get<0>(bm);
       fn = fmadd(load3z(md.U[ak].n.data()), bm, fn);
       ff = fmadd(load3(md.U[ak].f.data()), bm, ff);
     }

@@ -197,6 +197,15 @@ SPATIAL_INLINE float hsum(Vf x) {
   const __m128 t = _mm_add_ps(x, _mm_movehl_ps(x, x));
   return _mm_cvtss_f32(_mm_add_ss(t, _mm_movehdup_ps(t)));
 }
+/// hsum(x) in all four lanes, with the same additions in the same order: (x₀ + x₂) + (x₁ + x₃).
+SPATIAL_INLINE Vd hsum_all(Vd x) {
+  const Vd t = _mm256_add_pd(x, _mm256_permute2f128_pd(x, x, 1));  // (x₀ + x₂, x₁ + x₃, x₂ + x₀, x₃ + x₁)
+  return _mm256_add_pd(t, _mm256_permute_pd(t, 0b0101));
+}
+SPATIAL_INLINE Vf hsum_all(Vf x) {
+  const Vf t = _mm_add_ps(x, _mm_permute_ps(x, 0b01001110));
+  return _mm_add_ps(t, _mm_permute_ps(t, 0b10110001));
+}
 /// s e_L (s in lane L, 0 elsewhere) from a register holding a finite s in every lane. A product with e_L rather
 /// than a blend or mask: for L = 0 compilers turn those into a form of vmovq that valgrind cannot decode.
 template <int L, class W>
