@@ -27,7 +27,10 @@
 #include "spatial/algorithms.hpp"
 #include "spatial/floating.hpp"
 
+#include <array>
 #include <cstddef>
+#include <type_traits>
+#include <vector>
 
 namespace spatial {
 
@@ -52,6 +55,10 @@ struct MinvBuffers {
       U.resize(k);
       Dinv.resize(k);
       A.resize(k);
+      order.resize(k);
+      std::vector<int> parent(k), scratch(2 * k);
+      for (int i = 0; i < tree.size(); ++i) parent[static_cast<std::size_t>(i)] = tree.parent(i);
+      interleaved_reverse_order(tree.size(), parent.data(), order.data(), scratch.data(), scratch.data() + k);
     }
     for (auto& a : A) a = Block::Zero(6, n);
   }
@@ -63,6 +70,9 @@ struct MinvBuffers {
   Array<Force<S>> U{};             ///< Uᵢ = Iᴬᵢ Sᵢ
   Array<S> Dinv{};                 ///< 1 / Dᵢ
   Array<Block> A{};                ///< pass 3: body accelerations for the unit torques (columns ≥ the body's own)
+  /// pass 1 (AVX2) on a run-time tree: the bodies in interleaved_reverse_order (compile-time trees have it as a
+  /// constant)
+  std::conditional_t<ModelType::is_static, std::array<int, 0>, std::vector<int>> order{};
 };
 
 /// Pass 1 of the tree (leaves to root): S, Iᴬ, U, 1/D in base coordinates. X_base of `data` must be up to date.
@@ -170,20 +180,23 @@ void minv_articulated(const Model<S, T>& model, Data<S, T>& data, Buffers& md, A
     transpose(B.B[0], B.B[1], B.B[2], brow[0], brow[1], brow[2]);
     const V un = add(comb(B.A[0], B.A[1], B.A[2], B.sw), comb(B.B[0], B.B[1], B.B[2], B.sv));
     const V uf = add(comb(brow[0], brow[1], brow[2], B.sw), comb(B.C[0], B.C[1], B.C[2], B.sv));
-    const S dinv = S(1) / hsum(fmadd(B.sw, un, mul(B.sv, uf)));
+    // The chain from one body's D to its parent's (leaves to root: the bodies of a branch wait on each other) runs
+    // through D's sum, the division and one fused multiply-add per column: D is summed into all four lanes and
+    // divided there (no scalar division, no broadcast), the outer products U Uᵀ are formed beside the division, and
+    // each column of the parent is the column it has so far plus this body's, minus the product times 1 / D.
+    const V bd = div(bcast(S(1)), hsum_all(fmadd(B.sw, un, mul(B.sv, uf))));
     store4(md.U[k].n.data(), un);
     store3(md.U[k].f.data(), uf);
-    md.Dinv[k] = dinv;
-    // The parent (or a free-flying root) gets Iᴬ − U Uᵀ / D: column c of A loses un (un_c / D), of B un (uf_c / D),
-    // of C uf (uf_c / D).
-    const V bd = bcast(dinv);
-    const V wn = mul(un, bd), wf = mul(uf, bd);
+    md.Dinv[k] = get<0>(bd);
+    // The parent (or a free-flying root) gets Iᴬ − U Uᵀ / D: column c of A loses un un_c / D, of B un uf_c / D, of
+    // C uf uf_c / D.
     auto give = [&](V* pa, V* pb, V* pc) SPATIAL_LAMBDA_INLINE {
       auto column = [&](auto CC) SPATIAL_LAMBDA_INLINE {
         constexpr int c = decltype(CC)::value;
-        pa[c] = add(pa[c], fnmadd(un, lane<c>(wn), B.A[c]));
-        pb[c] = add(pb[c], fnmadd(un, lane<c>(wf), B.B[c]));
-        pc[c] = add(pc[c], fnmadd(uf, lane<c>(wf), B.C[c]));
+        const V nc = lane<c>(un), fc = lane<c>(uf);
+        pa[c] = fnmadd(mul(un, nc), bd, add(pa[c], B.A[c]));
+        pb[c] = fnmadd(mul(un, fc), bd, add(pb[c], B.B[c]));
+        pc[c] = fnmadd(mul(uf, fc), bd, add(pc[c], B.C[c]));
       };
       column(std::integral_constant<int, 0>{});
       column(std::integral_constant<int, 1>{});
@@ -198,7 +211,7 @@ void minv_articulated(const Model<S, T>& model, Data<S, T>& data, Buffers& md, A
   };
 
   bodies(model, forward);
-  bodies_reverse(model, backward);
+  bodies_reverse_interleaved(model, md.order.data(), backward);
   if (root_IA) {
     Matrix3<S>* blocks[3] = {&root_IA->A, &root_IA->B, &root_IA->C};
     for (int m = 0; m < 3; ++m)

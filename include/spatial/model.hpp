@@ -49,6 +49,28 @@ constexpr bool parents_precede(const std::array<int, N>& p) {
     if (p[i] < -1 || p[i] >= static_cast<int>(i)) return false;
   return true;
 }
+
+/// An order of the bodies of a tree (`parent[i]`, −1 for the base) with every child before its parent, in which the
+/// branches take turns: Kahn's algorithm from the leaves with a first-in first-out queue (the leaves in decreasing
+/// index order first; a body joins the queue once its last child is done). On HOAP-3's stance tree (the other leg
+/// and two arms hanging from the pelvis and chest above the stance leg) it begins 20, 14, 10, 19, 13, 9, …: bodies
+/// next to each other seldom wait on each other, so that a backward pass whose steps form a chain of latencies (a
+/// body's result feeds its parent's step) runs the branches' chains side by side. `queue` and `pending` are n
+/// ints of scratch.
+constexpr void interleaved_reverse_order(int n, const int* parent, int* out, int* queue, int* pending) {
+  for (int i = 0; i < n; ++i) pending[i] = 0;
+  for (int i = 0; i < n; ++i)
+    if (parent[i] >= 0) ++pending[parent[i]];
+  int tail = 0;
+  for (int i = n - 1; i >= 0; --i)
+    if (pending[i] == 0) queue[tail++] = i;
+  for (int head = 0; head < n; ++head) {
+    const int i = queue[head];
+    out[head] = i;
+    const int p = parent[i];
+    if (p >= 0 && --pending[p] == 0) queue[tail++] = p;
+  }
+}
 }  // namespace detail
 
 /// A compile-time topology: `Tree<Parents<-1, 0, 1>, Joints<JointType::RevoluteZ, …>>`.

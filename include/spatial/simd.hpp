@@ -128,6 +128,8 @@ SPATIAL_INLINE Vd sub(Vd a, Vd b) { return _mm256_sub_pd(a, b); }
 SPATIAL_INLINE Vf sub(Vf a, Vf b) { return _mm_sub_ps(a, b); }
 SPATIAL_INLINE Vd mul(Vd a, Vd b) { return _mm256_mul_pd(a, b); }
 SPATIAL_INLINE Vf mul(Vf a, Vf b) { return _mm_mul_ps(a, b); }
+SPATIAL_INLINE Vd div(Vd a, Vd b) { return _mm256_div_pd(a, b); }
+SPATIAL_INLINE Vf div(Vf a, Vf b) { return _mm_div_ps(a, b); }
 /// a b + c
 SPATIAL_INLINE Vd fmadd(Vd a, Vd b, Vd c) { return _mm256_fmadd_pd(a, b, c); }
 SPATIAL_INLINE Vf fmadd(Vf a, Vf b, Vf c) { return _mm_fmadd_ps(a, b, c); }
@@ -358,11 +360,16 @@ SPATIAL_INLINE void base_transform(const M& model, D& data, int i, P p, const Re
     for (int c = 0; c < 3; ++c) B.col[c] = up.col[c], B.row[c] = up.row[c];
     B.r = up.r;
   }
+  // S⁰ in registers and stored from them: `sw` and `sv` may be fields of B, which the stores through double*
+  // below may alias (the vector types may alias anything), so the compiler would otherwise store them and read them
+  // back, and read back the upper half of a four-lane store (`store3`), which is slow to forward.
+  const Vec<S> w = B.row[K];
+  const Vec<S> v = cross(B.r, w);
   store_transform(data.X_base[k], B.col[0], B.col[1], B.col[2], B.r);
-  sw = B.row[K];
-  sv = cross(B.r, sw);
-  store4(data.S_base[k].w.data(), sw);
-  store3(data.S_base[k].v.data(), sv);
+  store4(data.S_base[k].w.data(), w);
+  store3(data.S_base[k].v.data(), v);
+  sw = w;
+  sv = v;
 }
 
 /// A rigid-body inertia (m, h, Ī by columns) moved by Xᵀ I X, X = (E, r) given by E's columns and rows
@@ -456,6 +463,20 @@ template <class T, class F, int... I>
 SPATIAL_INLINE void unrolled_reverse(F& f, std::integer_sequence<int, I...>) {
   (f(std::integral_constant<int, T::size - 1 - I>{}, AxisK<revolute_axis(T::joint[T::size - 1 - I])>{}), ...);
 }
+/// interleaved_reverse_order (model.hpp) of a compile-time tree, at compile time.
+template <class T>
+struct InterleavedReverse {
+  static constexpr std::array<int, T::size> order = [] {
+    std::array<int, T::size> out{}, queue{}, pending{};
+    interleaved_reverse_order(T::size, T::parent.data(), out.data(), queue.data(), pending.data());
+    return out;
+  }();
+};
+template <class T, class F, int... I>
+SPATIAL_INLINE void unrolled_interleaved_reverse(F& f, std::integer_sequence<int, I...>) {
+  using O = InterleavedReverse<T>;
+  (f(std::integral_constant<int, O::order[I]>{}, AxisK<revolute_axis(T::joint[O::order[I]])>{}), ...);
+}
 /// f(i, K) for bodies 0 … n−1 (parents first).
 template <class S, class T, class F>
 SPATIAL_INLINE void bodies(const Model<S, T>& model, F& f) {
@@ -467,6 +488,18 @@ template <class S, class T, class F>
 SPATIAL_INLINE void bodies_reverse(const Model<S, T>& model, F& f) {
   if constexpr (is_static_tree_v<T>) unrolled_reverse<T>(f, std::make_integer_sequence<int, T::size>{});
   else for (int i = model.size() - 1; i >= 0; --i) with_axis(model, i, f);
+}
+/// f(i, K) for every body, children before parents, in interleaved_reverse_order (model.hpp): on a compile-time
+/// tree unrolled in InterleavedReverse's order, on a run-time tree looping over `order` (that order, computed once
+/// by the caller's buffers), so that both trees run the same operations in the same order.
+template <class S, class T, class F>
+SPATIAL_INLINE void bodies_reverse_interleaved(const Model<S, T>& model, const int* order, F& f) {
+  if constexpr (is_static_tree_v<T>) {
+    (void)order;
+    unrolled_interleaved_reverse<T>(f, std::make_integer_sequence<int, T::size>{});
+  } else {
+    for (int t = 0; t < model.size(); ++t) with_axis(model, order[t], f);
+  }
 }
 /// λ(i): a std::integral_constant for a compile-time index of a compile-time tree, else an int.
 template <class S, class T, int I>
