@@ -809,8 +809,8 @@ void aba_derivatives(const Model<S, T>& model, Data<S, T>& data, DerivativeData<
                      const Eigen::MatrixBase<Tau>& tau, const Ext& fext = Ext(), ForceFrame frame = ForceFrame::Body) {
   detail::check_sizes(model, "aba_derivatives", "q", q, "qd", qd, "tau", tau);
   const auto& Minv = inverse_inertia(model, data, dd.minv, q);
-  data.qdd.setZero();
-  rnea(model, data, q, qd, data.qdd, fext, frame);
+  // The bias forces RNEA(q, q̇, 0, fext): RNEA without its acceleration term (q̈ = 0 is not added in).
+  detail::rnea_impl<detail::kGravity | detail::kVelocity>(model, data, q, qd, qd, fext, frame, data.tau);
   data.tmp = tau - data.tau;
   data.qdd.noalias() = Minv * data.tmp;
   detail::rnea_derivatives_impl(model, data, dd, q, qd, data.qdd, fext, frame);
@@ -826,8 +826,7 @@ void aba_derivatives(const FloatingModel<S, T>& model, FloatingData<S, T>& data,
   detail::check_v(model, v, "aba_derivatives", "v");
   detail::check_v(model, tau, "aba_derivatives", "tau");
   const auto& Minv = inverse_inertia(model, data, dd.minv, q);
-  data.qdd.setZero();
-  rnea(model, data, q, v, data.qdd, fext, frame);
+  detail::rnea_floating<detail::kGravity | detail::kVelocity>(model, data, q, v, v, fext, frame, data.tau);
   data.tmp = tau - data.tau;
   data.qdd.noalias() = Minv * data.tmp;
   detail::rnea_derivatives_impl(model, data, dd, q, v, data.qdd, fext, frame);
