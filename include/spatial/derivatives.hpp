@@ -181,7 +181,11 @@ namespace simd {
 /// inertia ⁱX_0ᵀ Iᵢ ⁱX_0 (transformed_inertia, the arithmetic of CRBA's and H⁻¹'s kernels), its momentum Iᵢ vᵢ, its
 /// force Iᵢ aᵢ + vᵢ ×* Iᵢ vᵢ and its velocity coupling (`VelocityCoupling::of`), into the arrays of `b`; external
 /// forces are left to the caller. Agrees with the scalar pass (the same formulas) to rounding.
-template <class S, class T, class Bodies, class QD, class QDD, class Root>
+///
+/// `Reuse`: H⁻¹'s pass 1 (simd::minv_articulated) has just run at the same q, leaving the transforms and Sᵢ in
+/// `data` (data.S_base) and the body inertias in base coordinates in `out.Ic`; the pass reads those instead of
+/// composing the transforms and moving the inertias again (`aba_derivatives`).
+template <bool Reuse = false, class S, class T, class Bodies, class QD, class QDD, class Root>
 void derivatives_forward(const Model<S, T>& model, Data<S, T>& data, Bodies& out, const QD& qd, const QDD& qdd,
                          const Root& root) {
   using V = Vec<S>;
@@ -202,9 +206,15 @@ void derivatives_forward(const Model<S, T>& model, Data<S, T>& data, Bodies& out
     const auto k = static_cast<std::size_t>(i);
     const auto p = parent_of(model, I);
     Body& B = b[i];
-    LocalTransform<S> up;
     V sw, sv;
-    base_transform<decltype(KC)::value>(model, data, i, p, b, up, B, sw, sv);
+    if constexpr (Reuse) {
+      (void)KC;
+      sw = load3z(data.S_base[k].w.data());
+      sv = load3(data.S_base[k].v.data());
+    } else {
+      LocalTransform<S> up;
+      base_transform<decltype(KC)::value>(model, data, i, p, b, up, B, sw, sv);
+    }
     const bool has_parent = int(p) >= 0;
     const V vpw = has_parent ? b[int(p)].vw : rvw, vpv = has_parent ? b[int(p)].vv : rvv;
     const V apw = has_parent ? b[int(p)].aw : raw, apv = has_parent ? b[int(p)].av : rav;
@@ -244,15 +254,22 @@ void derivatives_forward(const Model<S, T>& model, Data<S, T>& data, Bodies& out
     }
     // The body inertia in base coordinates (m, h, Ī by columns); h and Ī are contiguous in an Inertia.
     const Inertia<S>& I0 = model.inertia(i);
-    const V ic0[3] = {load3z(I0.I.data()), load3z(I0.I.data() + 3), load3(I0.I.data() + 6)};
-    V h, c[3];
-    transformed_inertia<S>(B.col, B.row, B.r, I0.m, load3z(I0.h.data()), ic0, h, c);
     Inertia<S>& In = out.Ic[k];
-    In.m = I0.m;
-    store4(In.h.data(), h);
-    store4(In.I.data(), c[0]);
-    store4(In.I.data() + 3, c[1]);
-    store3(In.I.data() + 6, c[2]);
+    V h, c[3];
+    if constexpr (Reuse) {
+      h = load3z(In.h.data());
+      c[0] = load3z(In.I.data());
+      c[1] = load3z(In.I.data() + 3);
+      c[2] = load3(In.I.data() + 6);
+    } else {
+      const V ic0[3] = {load3z(I0.I.data()), load3z(I0.I.data() + 3), load3(I0.I.data() + 6)};
+      transformed_inertia<S>(B.col, B.row, B.r, I0.m, load3z(I0.h.data()), ic0, h, c);
+      In.m = I0.m;
+      store4(In.h.data(), h);
+      store4(In.I.data(), c[0]);
+      store4(In.I.data() + 3, c[1]);
+      store3(In.I.data() + 6, c[2]);
+    }
     // The momentum Iᵢ vᵢ and the force Fᵢ = Iᵢ aᵢ + vᵢ ×* (Iᵢ vᵢ).
     const V m = bcast(I0.m);
     V hn, hf, ian, iaf, vhn, vhf;
@@ -377,25 +394,34 @@ struct WalkRow {
 
 /// The tree's part of the RNEA derivatives. Writes rows/columns `off + i` of dq and dv, τᵢ into tau[off + i] and,
 /// for a floating root, the free-flyer's rows (0…5) for the tree's columns and its columns for the tree's rows.
+/// `after_minv`: `inverse_inertia_impl` has just run at the same q with `b.Ic` as its `body_inertia` (aba_derivatives),
+/// so where the AVX2 kernels apply (to both alike) the forward pass reuses its transforms and inertias.
 template <class S, class T, class Q, class V, class A, class Ext, class MQ, class MV, class Tau>
 void rnea_derivatives_tree(const Model<S, T>& model, Data<S, T>& data, DerivativeBodies<S, T>& b,
                            const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<V>& v,
                            const Eigen::MatrixBase<A>& a, const Ext& fext, ForceFrame frame,
-                           DerivativeRoot<S>& root, const Vector3<S>& g_base, int off, MQ& dq, MV& dv, Tau& tau) {
+                           DerivativeRoot<S>& root, const Vector3<S>& g_base, int off, MQ& dq, MV& dv, Tau& tau,
+                           bool after_minv = false) {
   constexpr bool X = has_external_v<Ext>;
   const bool world_forces = X && frame == ForceFrame::Base;
-  joint_sincos(model, data, q);
   // The forward pass: by the AVX2 kernel where it applies, else here.
   bool forward_done = false;
 #if SPATIAL_SIMD_AVX2
   if constexpr (simd_candidate<S, T>()) {
     if (simd_applies(model)) {
-      simd::derivatives_forward(model, data, b, v, a, root);
+      if (after_minv) {
+        simd::derivatives_forward<true>(model, data, b, v, a, root);
+      } else {
+        joint_sincos(model, data, q);
+        simd::derivatives_forward(model, data, b, v, a, root);
+      }
       forward_done = true;
     }
   }
 #endif
+  (void)after_minv;
   if (!forward_done) {
+    joint_sincos(model, data, q);
     for_each_body(model, [&](auto I) {
       const int i = I;
       const auto k = static_cast<std::size_t>(i);
@@ -617,11 +643,12 @@ namespace detail {
 template <class S, class T, class Q, class QD, class QDD, class Ext>
 void rnea_derivatives_impl(const Model<S, T>& model, Data<S, T>& data, DerivativeData<S, T>& dd,
                            const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<QD>& qd,
-                           const Eigen::MatrixBase<QDD>& qdd, const Ext& fext, ForceFrame frame) {
+                           const Eigen::MatrixBase<QDD>& qdd, const Ext& fext, ForceFrame frame,
+                           bool after_minv = false) {
   DerivativeRoot<S> root;
   root.a = -model.gravity_motion();
   rnea_derivatives_tree(model, data, dd.bodies, q, qd, qdd, fext, frame, root, model.gravity(), 0, dd.dtau_dq,
-                        dd.dtau_dv, data.tau);
+                        dd.dtau_dv, data.tau, after_minv);
 }
 }  // namespace detail
 
@@ -642,7 +669,7 @@ template <class S, class T, class Q, class V, class A, class Ext>
 void rnea_derivatives_impl(const FloatingModel<S, T>& model, FloatingData<S, T>& data,
                            FloatingDerivativeData<S, T>& dd, const Eigen::MatrixBase<Q>& q,
                            const Eigen::MatrixBase<V>& v, const Eigen::MatrixBase<A>& a, const Ext& fext,
-                           ForceFrame frame) {
+                           ForceFrame frame, bool after_minv = false) {
   constexpr bool X = has_external_v<Ext>;
   constexpr int NJ = FloatingModel<S, T>::NJ;
   const int n = model.njoints();
@@ -677,15 +704,15 @@ void rnea_derivatives_impl(const FloatingModel<S, T>& model, FloatingData<S, T>&
     if (world_forces) {
       const TreeForcesFromWorld<S, Ext> tf{fext, data.X0};
       rnea_derivatives_tree(model.tree(), data.tree, dd.bodies, qj, vj, aj, tf, ForceFrame::Base, root, g, 6,
-                            dd.dtau_dq, dd.dtau_dv, data.tau);
+                            dd.dtau_dq, dd.dtau_dv, data.tau, after_minv);
     } else {
       const TreeForces<Ext> tf{fext};
       rnea_derivatives_tree(model.tree(), data.tree, dd.bodies, qj, vj, aj, tf, ForceFrame::Body, root, g, 6,
-                            dd.dtau_dq, dd.dtau_dv, data.tau);
+                            dd.dtau_dq, dd.dtau_dv, data.tau, after_minv);
     }
   } else {
     rnea_derivatives_tree(model.tree(), data.tree, dd.bodies, qj, vj, aj, fext, ForceFrame::Body, root, g, 6,
-                          dd.dtau_dq, dd.dtau_dv, data.tau);
+                          dd.dtau_dq, dd.dtau_dv, data.tau, after_minv);
   }
   // The free-flyer's 6 × 6 block: rows Sₐ (Pₐ = Iᶜ₀ Sₐ, Qₐ = Bᶜ₀ᵀ Sₐ, Rₐ = Sₐ ×* Fˣ₀), columns as for any row.
   data.f0 = root.F;
@@ -808,12 +835,13 @@ void aba_derivatives(const Model<S, T>& model, Data<S, T>& data, DerivativeData<
                      const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<QD>& qd,
                      const Eigen::MatrixBase<Tau>& tau, const Ext& fext = Ext(), ForceFrame frame = ForceFrame::Body) {
   detail::check_sizes(model, "aba_derivatives", "q", q, "qd", qd, "tau", tau);
-  const auto& Minv = inverse_inertia(model, data, dd.minv, q);
+  // H⁻¹, leaving the body inertias in base coordinates where the derivatives' forward pass reads them (after_minv).
+  const auto& Minv = detail::inverse_inertia_impl<true>(model, data, dd.minv, q, dd.bodies.Ic.data());
   // The bias forces RNEA(q, q̇, 0, fext): RNEA without its acceleration term (q̈ = 0 is not added in).
   detail::rnea_impl<detail::kGravity | detail::kVelocity>(model, data, q, qd, qd, fext, frame, data.tau);
   data.tmp = tau - data.tau;
   data.qdd.noalias() = Minv * data.tmp;
-  detail::rnea_derivatives_impl(model, data, dd, q, qd, data.qdd, fext, frame);
+  detail::rnea_derivatives_impl(model, data, dd, q, qd, data.qdd, fext, frame, true);
   detail::aba_derivatives_products(dd, Minv);
 }
 
@@ -825,11 +853,11 @@ void aba_derivatives(const FloatingModel<S, T>& model, FloatingData<S, T>& data,
   detail::check_q(model, q, "aba_derivatives");
   detail::check_v(model, v, "aba_derivatives", "v");
   detail::check_v(model, tau, "aba_derivatives", "tau");
-  const auto& Minv = inverse_inertia(model, data, dd.minv, q);
+  const auto& Minv = detail::inverse_inertia_impl<true>(model, data, dd.minv, q, dd.bodies.Ic.data());
   detail::rnea_floating<detail::kGravity | detail::kVelocity>(model, data, q, v, v, fext, frame, data.tau);
   data.tmp = tau - data.tau;
   data.qdd.noalias() = Minv * data.tmp;
-  detail::rnea_derivatives_impl(model, data, dd, q, v, data.qdd, fext, frame);
+  detail::rnea_derivatives_impl(model, data, dd, q, v, data.qdd, fext, frame, true);
   detail::aba_derivatives_products(dd, Minv);
 }
 

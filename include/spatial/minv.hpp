@@ -128,9 +128,12 @@ namespace simd {
 /// composes the transforms (base_transform: data.X_up, data.X_base, data.S_base, as forward_kinematics' kernel
 /// leaves them), then each body's inertia moved to base
 /// coordinates and the articulated inertias [A B; Bᵀ C] accumulated by columns, one register per column. The
-/// results (md.S0, md.U, md.Dinv and *root_IA) agree with the scalar pass to rounding; md.IA is not written.
+/// results (md.S0, md.U, md.Dinv and *root_IA) agree with the scalar pass to rounding; md.IA is not written. With
+/// `body_inertia`, each body's inertia in base coordinates goes there too (`aba_derivatives` gives it its
+/// derivative buffers, whose forward pass then need not move the inertias again: `derivatives_forward`, Reuse).
 template <class S, class T, class Buffers>
-void minv_articulated(const Model<S, T>& model, Data<S, T>& data, Buffers& md, ArticulatedInertia<S>* root_IA) {
+void minv_articulated(const Model<S, T>& model, Data<S, T>& data, Buffers& md, ArticulatedInertia<S>* root_IA,
+                      Inertia<S>* body_inertia = nullptr) {
   using V = Vec<S>;
   constexpr bool Static = Model<S, T>::is_static;
   constexpr int NB = Static ? Model<S, T>::NB : 1;
@@ -160,6 +163,14 @@ void minv_articulated(const Model<S, T>& model, Data<S, T>& data, Buffers& md, A
     const V ic[3] = {load3z(In.I.data()), load3z(In.I.data() + 3), load3(In.I.data() + 6)};
     V h;
     transformed_inertia<S>(B.col, B.row, B.r, In.m, load3z(In.h.data()), ic, h, B.A);
+    if (body_inertia) {  // h and Ī are contiguous in an Inertia: each four-lane store is overwritten by the next
+      Inertia<S>& out = body_inertia[i];
+      out.m = In.m;
+      store4(out.h.data(), h);
+      store4(out.I.data(), B.A[0]);
+      store4(out.I.data() + 3, B.A[1]);
+      store3(out.I.data() + 6, B.A[2]);
+    }
     auto column = [&](auto CC) SPATIAL_LAMBDA_INLINE {
       constexpr int c = decltype(CC)::value;
       B.B[c] = mul(swap_other<c>(h), sign<c, V>());
@@ -261,15 +272,17 @@ void minv_columns(const Model<S, T>& model, Buffers& md, int off, RootForce&& ro
 #endif
 
 /// The transforms and pass 1 (after joint_sincos): the AVX2 kernel when it applies (`Simd` false: never, for the
-/// tests), else update_transform and the scalar pass.
+/// tests), else update_transform and the scalar pass. `body_inertia`: see simd::minv_articulated (the scalar pass
+/// ignores it).
 template <bool Simd, class S, class T, class Q, class Buffers>
 void minv_first(const Model<S, T>& model, Data<S, T>& data, Buffers& md, const Eigen::MatrixBase<Q>& q,
-                ArticulatedInertia<S>* root_IA) {
+                ArticulatedInertia<S>* root_IA, Inertia<S>* body_inertia = nullptr) {
 #if SPATIAL_SIMD_AVX2
   if constexpr (Simd && simd_candidate<S, T>()) {
-    if (simd_applies(model)) return simd::minv_articulated(model, data, md, root_IA);
+    if (simd_applies(model)) return simd::minv_articulated(model, data, md, root_IA, body_inertia);
   }
 #endif
+  (void)body_inertia;
   for_each_body(model, [&](auto I) { update_transform<true>(model, data, I, q); });
   minv_articulated(model, data, md, root_IA);
 }
@@ -470,15 +483,17 @@ struct FloatingMinvData : detail::MinvBuffers<S, T, FloatingModel<S, T>::NV> {
 
 namespace detail {
 /// inverse_inertia's three passes; `Simd` false keeps every pass on the scalar path (the tests compare both).
+/// `body_inertia`: see minv_first.
 template <bool Simd, class S, class T, class Q>
 const typename MinvData<S, T>::Matrix& inverse_inertia_impl(const Model<S, T>& model, Data<S, T>& data,
-                                                            MinvData<S, T>& md, const Eigen::MatrixBase<Q>& q) {
+                                                            MinvData<S, T>& md, const Eigen::MatrixBase<Q>& q,
+                                                            Inertia<S>* body_inertia = nullptr) {
   joint_sincos(model, data, q);
   // Entries (j, i), j > i, where i is not an ancestor of j get no pass-2 term: start them from zero. (The whole
   // matrix: whole packets, cheaper than the strict lower triangle's ragged columns; the upper triangle is
   // overwritten by minv_symmetrize.)
   md.Minv.setZero();
-  minv_first<Simd>(model, data, md, q, static_cast<ArticulatedInertia<S>*>(nullptr));
+  minv_first<Simd>(model, data, md, q, static_cast<ArticulatedInertia<S>*>(nullptr), body_inertia);
   minv_second<Simd>(model, md, 0, [](int, const Force<S>&) {});
   minv_rows(model, md, 0, static_cast<const typename MinvData<S, T>::Block*>(nullptr));
   minv_symmetrize(md.Minv);
@@ -489,7 +504,8 @@ template <bool Simd, class S, class T, class Q>
 const typename FloatingMinvData<S, T>::Matrix& inverse_inertia_impl(const FloatingModel<S, T>& model,
                                                                     FloatingData<S, T>& data,
                                                                     FloatingMinvData<S, T>& md,
-                                                                    const Eigen::MatrixBase<Q>& q) {
+                                                                    const Eigen::MatrixBase<Q>& q,
+                                                                    Inertia<S>* body_inertia = nullptr) {
   const auto& tree = model.tree();
   auto& td = data.tree;
   const auto qj = joint_block<FloatingModel<S, T>::NJ>(q, 7, model.njoints());
@@ -499,7 +515,7 @@ const typename FloatingMinvData<S, T>::Matrix& inverse_inertia_impl(const Floati
   M.setZero();  // as in the fixed-base version
   // Pass 1, and the root's articulated inertia D₀ = Iᴬ₀ (angular first), inverted through its Cholesky factor.
   ArticulatedInertia<S> IA0(model.root_inertia());
-  minv_first<Simd>(tree, td, md, qj, &IA0);
+  minv_first<Simd>(tree, td, md, qj, &IA0, body_inertia);
   // v's order is linear first: D₀ with its blocks swapped, [C Bᵀ; B A], and its inverse is H⁻¹'s 6 × 6 corner.
   Matrix6<S> D0;
   D0 << IA0.C, IA0.B.transpose(), IA0.B, IA0.A;
