@@ -30,26 +30,6 @@ void expect_close(const char* what, const A& a, const B& b, double tol, const st
   EXPECT_LE(diff, tol * scale) << what << ", " << where << ": " << diff / scale << " of the largest entry";
 }
 
-/// The bound of simd_compare.hpp (`tolerance`) from a model's depth, compile-time tree or not.
-template <class M>
-double tolerance_of(const M& tree) {
-  int depth = 0;
-  for (int i = 0; i < tree.size(); ++i) {
-    int k = 0;
-    for (int j = i; j >= 0; j = tree.parent(j)) ++k;
-    depth = std::max(depth, k);
-  }
-  return 16.0 * (depth + 1) * std::numeric_limits<double>::epsilon();
-}
-
-std::vector<Force<double>> random_forces(int count, std::mt19937& rng) {
-  std::uniform_real_distribution<double> u(-5.0, 5.0);
-  std::vector<Force<double>> f(static_cast<std::size_t>(count));
-  for (auto& x : f)
-    for (int c = 0; c < 6; ++c) x.vector()[c] = u(rng);
-  return f;
-}
-
 /// rnea_derivatives and aba_derivatives on `model` (the kernels) and on `twin` (the scalar path) at the same state.
 /// H⁻¹ amplifies the paths' different roundings by H's condition number, hence the looser bound on what it
 /// multiplies (as for q̈ in simd_floating.cpp).
@@ -103,7 +83,7 @@ void compare_fixed(const Model<double, TreeT>& model, unsigned seed, int trials 
     const Eigen::VectorXd v = spatial::testing::random_vector(n, rng, 2.0);
     const Eigen::VectorXd a = spatial::testing::random_vector(n, rng, 2.0);
     const Eigen::VectorXd tau = spatial::testing::random_vector(n, rng, 2.0);
-    const auto f = random_forces(n, rng);
+    const auto f = spatial::testing::random_forces(n, rng);
     auto both = [&](const auto& m, const char* kind) {
       using MT = std::decay_t<decltype(m)>;
       using D = Data<double, typename MT::tree_type>;
@@ -133,7 +113,7 @@ void compare_floating(const FloatingModel<double, TreeT>& model, unsigned seed, 
     const Eigen::VectorXd v = spatial::testing::random_vector(n + 6, rng, 2.0);
     const Eigen::VectorXd a = spatial::testing::random_vector(n + 6, rng, 2.0);
     const Eigen::VectorXd tau = spatial::testing::random_vector(n + 6, rng, 2.0);
-    const auto f = random_forces(n + 1, rng);
+    const auto f = spatial::testing::random_forces(n + 1, rng);
     auto both = [&](const auto& m, const char* kind) {
       using MT = std::decay_t<decltype(m)>;
       using D = FloatingData<double, typename MT::tree_type>;

@@ -264,11 +264,7 @@ void derivatives_forward(const Model<S, T>& model, Data<S, T>& data, Bodies& out
     } else {
       const V ic0[3] = {load3z(I0.I.data()), load3z(I0.I.data() + 3), load3(I0.I.data() + 6)};
       transformed_inertia<S>(B.col, B.row, B.r, I0.m, load3z(I0.h.data()), ic0, h, c);
-      In.m = I0.m;
-      store4(In.h.data(), h);
-      store4(In.I.data(), c[0]);
-      store4(In.I.data() + 3, c[1]);
-      store3(In.I.data() + 6, c[2]);
+      store_inertia(I0.m, h, c, In);
     }
     // The momentum Iᵢ vᵢ and the force Fᵢ = Iᵢ aᵢ + vᵢ ×* (Iᵢ vᵢ).
     const V m = bcast(I0.m);

@@ -163,14 +163,7 @@ void minv_articulated(const Model<S, T>& model, Data<S, T>& data, Buffers& md, A
     const V ic[3] = {load3z(In.I.data()), load3z(In.I.data() + 3), load3(In.I.data() + 6)};
     V h;
     transformed_inertia<S>(B.col, B.row, B.r, In.m, load3z(In.h.data()), ic, h, B.A);
-    if (body_inertia) {  // h and Ī are contiguous in an Inertia: each four-lane store is overwritten by the next
-      Inertia<S>& out = body_inertia[i];
-      out.m = In.m;
-      store4(out.h.data(), h);
-      store4(out.I.data(), B.A[0]);
-      store4(out.I.data() + 3, B.A[1]);
-      store3(out.I.data() + 6, B.A[2]);
-    }
+    if (body_inertia) store_inertia(In.m, h, B.A, body_inertia[i]);
     auto column = [&](auto CC) SPATIAL_LAMBDA_INLINE {
       constexpr int c = decltype(CC)::value;
       B.B[c] = mul(swap_other<c>(h), sign<c, V>());

@@ -326,6 +326,16 @@ SPATIAL_INLINE void store_transform(Transform<S>& X, Vec<S> c0, Vec<S> c1, Vec<S
   store4(x + 6, c2);
   store3(x + 9, r);
 }
+/// Writes a rigid-body inertia held in lanes: m, h, the columns of Ī (h and Ī are contiguous in an Inertia, so each
+/// four-lane store's fourth lane is overwritten by the next store).
+template <class S>
+SPATIAL_INLINE void store_inertia(S m, Vec<S> h, const Vec<S> (&ic)[3], Inertia<S>& out) {
+  out.m = m;
+  store4(out.h.data(), h);
+  store4(out.I.data(), ic[0]);
+  store4(out.I.data() + 3, ic[1]);
+  store3(out.I.data() + 6, ic[2]);
+}
 
 /// ⁱX_λ of body i (compose<K>) into `data.X_up[i]`, and E by columns and by rows.
 template <int K, class M, class D, class V>
@@ -776,14 +786,6 @@ void crba(const Model<S, T>& model, Data<S, T>& data, Sink& sink) {
     V ih = zero<V>(), ic[3] = {zero<V>(), zero<V>(), zero<V>()};
     S im = S(0);
   } root;  // Roots: Σ over the roots of ⁱX_0ᵀ Iᶜᵢ ⁱX_0
-  // A composite inertia held in lanes (m, h, the columns of Ī), written out as an Inertia.
-  auto store_inertia = [](S m, V h, const V (&ic)[3], Inertia<S>& out) SPATIAL_LAMBDA_INLINE {
-    out.m = m;
-    store4(out.h.data(), h);
-    store4(out.I.data(), ic[0]);
-    store4(out.I.data() + 3, ic[1]);
-    store3(out.I.data() + 6, ic[2]);
-  };
   // ⁱX_λᵀ Iᶜᵢ ⁱX_λ added into another composite inertia's lanes (the parent's, or the roots' sum).
   auto add_moved = [](const Body& B, S& im, V& ih, V (&ic)[3]) SPATIAL_LAMBDA_INLINE {
     V h, c[3];

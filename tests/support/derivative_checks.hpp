@@ -50,11 +50,7 @@ void expect_ad_aba(const M& model, const DD& dd, const Vec& q, const Vec& v, con
   EXPECT_LT(ad_rel_err(dd.dqdd_dtau, b.dqdd_dtau), kAdTolerance);
 }
 
-inline Forces random_forces(int n, std::mt19937& rng) {
-  Forces f;
-  for (int i = 0; i < n; ++i) f.emplace_back(Vector6<double>(random_vector(6, rng, 3.0)));
-  return f;
-}
+using spatial::testing::random_forces;
 
 /// Central differences of x ↦ f(x) (n outputs) in the m directions `step(x, k, h)` (x ⊕ h eₖ).
 template <class F, class Step>

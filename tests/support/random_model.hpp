@@ -5,6 +5,7 @@
 
 #include <random>
 #include <string>
+#include <vector>
 
 namespace spatial::testing {
 
@@ -152,6 +153,13 @@ inline Eigen::VectorXd random_vector(int n, std::mt19937& rng, double scale = 1.
   Eigen::VectorXd v(n);
   for (int i = 0; i < n; ++i) v[i] = u(rng);
   return v;
+}
+
+/// n random spatial forces, each coordinate uniform in [-3, 3].
+inline std::vector<Force<double>> random_forces(int n, std::mt19937& rng) {
+  std::vector<Force<double>> f;
+  for (int i = 0; i < n; ++i) f.emplace_back(Vector6<double>(random_vector(6, rng, 3.0)));
+  return f;
 }
 
 }  // namespace spatial::testing

@@ -70,15 +70,20 @@ static_assert(!detail::simd_enabled<double, DynamicTree>() && detail::simd_candi
               "run-time trees take the kernels when simd_applies says so, per call (simd_runtime.cpp)");
 static_assert(!detail::simd_enabled<double, static_trees::Branched8>(), "other joint types: scalar path");
 
-template <class TreeT>
-int depth() {
+/// The number of bodies on the longest path from a root, of n bodies with parent(j) (−1 for a root).
+template <class Parent>
+int tree_depth(int n, Parent parent) {
   int d = 0;
-  for (int i = 0; i < TreeT::size; ++i) {
+  for (int i = 0; i < n; ++i) {
     int k = 0;
-    for (int j = i; j >= 0; j = TreeT::parent[static_cast<std::size_t>(j)]) ++k;
+    for (int j = i; j >= 0; j = parent(j)) ++k;
     d = std::max(d, k);
   }
   return d;
+}
+template <class TreeT>
+int depth() {
+  return tree_depth(TreeT::size, [](int j) { return TreeT::parent[static_cast<std::size_t>(j)]; });
 }
 
 /// Both paths evaluate the same expressions in a different order (and with fused multiply–adds), so every output
@@ -87,6 +92,12 @@ int depth() {
 template <class TreeT, class S = double>
 double tolerance() {
   return 16.0 * (depth<TreeT>() + 1) * double(std::numeric_limits<S>::epsilon());
+}
+/// The same bound from a model's own parents (compile-time tree or not).
+template <class M, class S = double>
+double tolerance_of(const M& model) {
+  return 16.0 * (tree_depth(model.size(), [&](int j) { return model.parent(j); }) + 1) *
+         double(std::numeric_limits<S>::epsilon());
 }
 
 template <class TreeT, class S = double>
