@@ -57,6 +57,10 @@ void compare_once(const M& model, const Twin& twin, const Q& q, const V& v, cons
   expect_close("dqdd_dtau", dds.dqdd_dtau, ddr.dqdd_dtau, loose, where);
   expect_close("dqdd_dq", dds.dqdd_dq, ddr.dqdd_dq, loose, where);
   expect_close("dqdd_dv", dds.dqdd_dv, ddr.dqdd_dv, loose, where);
+  // data.tau: RNEA at the q̈ found (the kernels add q̈'s terms to a pass run at q̈ = 0, the root's too), which gives
+  // back τ.
+  expect_close("RNEA(q, v, qdd) after aba_derivatives", ds.tau, dr.tau, loose, where);
+  expect_close("RNEA(q, v, qdd) = tau", ds.tau, tau, loose, where);
   // The products against Eigen's dense ones from this call's own H⁻¹ and ∂τ/∂x: only the order of the additions
   // differs, so each entry agrees to 2 n u times the sum of its terms' magnitudes (|H⁻¹| |∂τ/∂x|).
   const Eigen::MatrixXd Mi = dds.dqdd_dtau;

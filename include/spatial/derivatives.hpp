@@ -175,6 +175,17 @@ struct DerivativeRoot {
 
 #if SPATIAL_SIMD_AVX2
 namespace simd {
+/// The first six lanes' groups of `DerivativeBodies::W` of a body: (Sₖ, Sₖ, Sₖ, αₖ), k = 0 … 5.
+template <class S, class V>
+SPATIAL_INLINE void store_walk_alpha(S* W, V sw, V sv, V alw, V alv) {
+  store4(W, low3_high1(lane<0>(sw), lane<0>(alw)));
+  store4(W + 4, low3_high1(lane<1>(sw), lane<1>(alw)));
+  store4(W + 8, low3_high1(lane<2>(sw), lane<2>(alw)));
+  store4(W + 12, low3_high1(lane<0>(sv), lane<0>(alv)));
+  store4(W + 16, low3_high1(lane<1>(sv), lane<1>(alv)));
+  store4(W + 20, low3_high1(lane<2>(sv), lane<2>(alv)));
+}
+
 /// The forward pass of `rnea_derivatives_tree` on AVX2 (double or float, revolute joints about coordinate axes:
 /// `simd_applies`), every 3-vector in a register: ⁱX_λ and ⁱX_0 into `data.X_up` and `data.X_base` (base_transform,
 /// as forward_kinematics' kernel leaves them), and per body, in base coordinates, Sᵢ, vᵢ, aᵢ, βᵢ, αᵢ, Cᵢ, the body
@@ -185,7 +196,10 @@ namespace simd {
 /// `Reuse`: H⁻¹'s pass 1 (simd::minv_articulated) has just run at the same q, leaving the transforms and Sᵢ in
 /// `data` (data.S_base) and the body inertias in base coordinates in `out.Ic`; the pass reads those instead of
 /// composing the transforms and moving the inertias again (`aba_derivatives`).
-template <bool Reuse = false, class S, class T, class Bodies, class QD, class QDD, class Root>
+///
+/// `Bias`: the pass runs at q̈ = 0 (`qdd` is not read), for `aba_derivatives`, which takes the bias forces from it
+/// and then adds q̈'s terms (`derivatives_accelerate`).
+template <bool Reuse = false, bool Bias = false, class S, class T, class Bodies, class QD, class QDD, class Root>
 void derivatives_forward(const Model<S, T>& model, Data<S, T>& data, Bodies& out, const QD& qd, const QDD& qdd,
                          const Root& root) {
   using V = Vec<S>;
@@ -218,13 +232,20 @@ void derivatives_forward(const Model<S, T>& model, Data<S, T>& data, Bodies& out
     const bool has_parent = int(p) >= 0;
     const V vpw = has_parent ? b[int(p)].vw : rvw, vpv = has_parent ? b[int(p)].vv : rvv;
     const V apw = has_parent ? b[int(p)].aw : raw, apv = has_parent ? b[int(p)].av : rav;
-    const V dq = bcast(S(qd[i])), ddq = bcast(S(qdd[i]));
+    const V dq = bcast(S(qd[i]));
     // vᵢ = v_λ + Sᵢ q̇ᵢ, βᵢ = Sᵢ × v_λ, aᵢ = a_λ + Sᵢ q̈ᵢ − βᵢ q̇ᵢ, αᵢ = Sᵢ × a_λ + v_λ × βᵢ
     B.vw = fmadd(sw, dq, vpw);
     B.vv = fmadd(sv, dq, vpv);
     const V bw = cross(sw, vpw), bv = add(cross(sw, vpv), cross(sv, vpw));
-    B.aw = fnmadd(bw, dq, fmadd(sw, ddq, apw));
-    B.av = fnmadd(bv, dq, fmadd(sv, ddq, apv));
+    if constexpr (Bias) {
+      (void)qdd;
+      B.aw = fnmadd(bw, dq, apw);
+      B.av = fnmadd(bv, dq, apv);
+    } else {
+      const V ddq = bcast(S(qdd[i]));
+      B.aw = fnmadd(bw, dq, fmadd(sw, ddq, apw));
+      B.av = fnmadd(bv, dq, fmadd(sv, ddq, apv));
+    }
     const V alw = add(cross(sw, apw), cross(vpw, bw));
     const V alv = add(add(cross(sw, apv), cross(sv, apw)), add(cross(vpw, bv), cross(vpv, bw)));
     store_pair(out.S0[k].w.data(), sw, sv);
@@ -234,12 +255,7 @@ void derivatives_forward(const Model<S, T>& model, Data<S, T>& data, Bodies& out
     store_pair(out.alpha[k].w.data(), alw, alv);
     if constexpr (walk_lanes<T>()) {
       S* W = out.W[k].data();  // (Sₖ, Sₖ, Sₖ, αₖ) and (βₖ, βₖ, βₖ, βₖ), k = 0 … 5
-      store4(W, low3_high1(lane<0>(sw), lane<0>(alw)));
-      store4(W + 4, low3_high1(lane<1>(sw), lane<1>(alw)));
-      store4(W + 8, low3_high1(lane<2>(sw), lane<2>(alw)));
-      store4(W + 12, low3_high1(lane<0>(sv), lane<0>(alv)));
-      store4(W + 16, low3_high1(lane<1>(sv), lane<1>(alv)));
-      store4(W + 20, low3_high1(lane<2>(sv), lane<2>(alv)));
+      store_walk_alpha(W, sw, sv, alw, alv);
       store4(W + 24, lane<0>(bw));
       store4(W + 28, lane<1>(bw));
       store4(W + 32, lane<2>(bw));
@@ -289,6 +305,53 @@ void derivatives_forward(const Model<S, T>& model, Data<S, T>& data, Bodies& out
     store3(A + 9, fnmadd(m, B.vv, cross(h, B.vw)));
   };
   bodies(model, forward);
+}
+
+/// After `derivatives_forward<true, true>` (q̈ = 0) and the external forces: adds q̈'s terms, which are linear in q̈.
+/// With Δaᵢ = Δa_λ + Sᵢ q̈ᵢ (Δa of the root: `da0`, zero on a fixed base), aᵢ += Δaᵢ, αᵢ += Sᵢ × Δa_λ (in `alpha`
+/// and in W's or C's lanes) and Fᵢ += Iᵢ Δaᵢ, with Iᵢ the body inertia in base coordinates that `out.Ic` still
+/// holds (before the backward pass sums it into the subtree's). βᵢ, vᵢ and every velocity term are unchanged.
+template <class S, class T, class Bodies, class QDD>
+void derivatives_accelerate(const Model<S, T>& model, Data<S, T>& data, Bodies& out, const QDD& qdd,
+                            const Motion<S>& da0) {
+  using V = Vec<S>;
+  constexpr bool Static = Model<S, T>::is_static;
+  constexpr int NB = Static ? Model<S, T>::NB : 1;
+  struct Body {
+    V dw, dv;  // Δaᵢ
+  };
+  Body local[NB];
+  Body* b = local;
+  if constexpr (Static) keep_in_memory(b);
+  else b = records<Body>(data, model.size());
+  const V rw = load3z(da0.w.data()), rv = load3(da0.v.data());
+  auto accelerate = [&](auto I, auto) SPATIAL_LAMBDA_INLINE {
+    const int i = I;
+    const auto k = static_cast<std::size_t>(i);
+    const auto p = parent_of(model, I);
+    const bool has_parent = int(p) >= 0;
+    const V pw = has_parent ? b[int(p)].dw : rw, pv = has_parent ? b[int(p)].dv : rv;
+    const V sw = load3z(out.S0[k].w.data()), sv = load3(out.S0[k].v.data());
+    const V ddq = bcast(S(qdd[i]));
+    const V dw = fmadd(sw, ddq, pw), dv = fmadd(sv, ddq, pv);
+    b[i].dw = dw;
+    b[i].dv = dv;
+    Motion<S>& a = out.a[k];
+    store_pair(a.w.data(), add(load3z(a.w.data()), dw), add(load3(a.v.data()), dv));
+    Motion<S>& al = out.alpha[k];
+    const V alw = add(load3z(al.w.data()), cross(sw, pw));
+    const V alv = add(load3(al.v.data()), add(cross(sw, pv), cross(sv, pw)));
+    store_pair(al.w.data(), alw, alv);
+    if constexpr (walk_lanes<T>()) store_walk_alpha(out.W[k].data(), sw, sv, alw, alv);
+    else store_pair(out.C[k].data() + 12, alw, alv);
+    const Inertia<S>& In = out.Ic[k];
+    const V c[3] = {load3z(In.I.data()), load3z(In.I.data() + 3), load3(In.I.data() + 6)};
+    V fn, ff;
+    inertia_times(c[0], c[1], c[2], load3z(In.h.data()), bcast(In.m), dw, dv, fn, ff);
+    Force<S>& F = out.F[k];
+    store_pair(F.n.data(), add(load3z(F.n.data()), fn), add(load3(F.f.data()), ff));
+  };
+  bodies(model, accelerate);
 }
 
 /// Columns 0, 1, 2 of the 4 × 4 matrix whose rows are a, b, c, d (lanes 0..3).
@@ -388,24 +451,54 @@ struct WalkRow {
 }  // namespace simd
 #endif
 
+/// τᵢ = Sᵢ · Σ over i's subtree of Fₖ from the per-body forces of the forward pass (`b.F`, left as they are; the
+/// subtree sums go through `data.f`) into tau[off + i]; returns the sum of the subtree forces of the root's children.
+template <class S, class T, class Tau>
+Force<S> bias_backward(const Model<S, T>& model, Data<S, T>& data, const DerivativeBodies<S, T>& b, int off,
+                       Tau& tau) {
+  for_each_body(model, [&](auto I) {
+    const auto k = static_cast<std::size_t>(int(I));
+    data.f[k] = b.F[k];
+  });
+  Force<S> top = Force<S>::Zero();
+  for_each_body_reverse(model, [&](auto I) {
+    const int i = I;
+    const auto k = static_cast<std::size_t>(i);
+    const int p = model.parent(I);
+    tau[off + i] = dot(b.S0[k], data.f[k]);
+    if (p >= 0) data.f[static_cast<std::size_t>(p)] += data.f[k];
+    else top += data.f[k];
+  });
+  return top;
+}
+
 /// The tree's part of the RNEA derivatives. Writes rows/columns `off + i` of dq and dv, τᵢ into tau[off + i] and,
 /// for a floating root, the free-flyer's rows (0…5) for the tree's columns and its columns for the tree's rows.
 /// `after_minv`: `inverse_inertia_impl` has just run at the same q with `b.Ic` as its `body_inertia` (aba_derivatives),
 /// so where the AVX2 kernels apply (to both alike) the forward pass reuses its transforms and inertias.
-template <class S, class T, class Q, class V, class A, class Ext, class MQ, class MV, class Tau>
+/// `solve` (aba_derivatives, only where the AVX2 kernels apply: `bias_in_forward`): q̈ is not known yet. The forward
+/// pass runs at q̈ = 0, the bias forces τ₀ = RNEA(q, q̇, 0, fext) are summed from it into `tau` (`bias_backward`),
+/// `solve(F)` is then called with the sum F of the subtree forces of the root's children and must write q̈ where
+/// `a` reads it and return the root's Δa (zero on a fixed base), and q̈'s terms are added (`derivatives_accelerate`)
+/// before the backward pass: no separate RNEA for the bias forces.
+template <class S, class T, class Q, class V, class A, class Ext, class MQ, class MV, class Tau,
+          class Solve = std::nullptr_t>
 void rnea_derivatives_tree(const Model<S, T>& model, Data<S, T>& data, DerivativeBodies<S, T>& b,
                            const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<V>& v,
                            const Eigen::MatrixBase<A>& a, const Ext& fext, ForceFrame frame,
                            DerivativeRoot<S>& root, const Vector3<S>& g_base, int off, MQ& dq, MV& dv, Tau& tau,
-                           bool after_minv = false) {
+                           bool after_minv = false, Solve&& solve = nullptr) {
   constexpr bool X = has_external_v<Ext>;
+  constexpr bool Solving = !std::is_same_v<std::decay_t<Solve>, std::nullptr_t>;
   const bool world_forces = X && frame == ForceFrame::Base;
   // The forward pass: by the AVX2 kernel where it applies, else here.
   bool forward_done = false;
 #if SPATIAL_SIMD_AVX2
   if constexpr (simd_candidate<S, T>()) {
     if (simd_applies(model)) {
-      if (after_minv) {
+      if constexpr (Solving) {
+        simd::derivatives_forward<true, true>(model, data, b, v, a, root);
+      } else if (after_minv) {
         simd::derivatives_forward<true>(model, data, b, v, a, root);
       } else {
         joint_sincos(model, data, q);
@@ -416,6 +509,8 @@ void rnea_derivatives_tree(const Model<S, T>& model, Data<S, T>& data, Derivativ
   }
 #endif
   (void)after_minv;
+  (void)solve;  // used only by the AVX2 path
+  static_assert(!Solving || simd_candidate<S, T>(), "rnea_derivatives_tree: `solve` needs the AVX2 kernels");
   if (!forward_done) {
     joint_sincos(model, data, q);
     for_each_body(model, [&](auto I) {
@@ -453,6 +548,12 @@ void rnea_derivatives_tree(const Model<S, T>& model, Data<S, T>& data, Derivativ
       }
     });
   }
+#if SPATIAL_SIMD_AVX2
+  if constexpr (Solving) {
+    const Motion<S> da0 = solve(bias_backward(model, data, b, off, tau));
+    simd::derivatives_accelerate(model, data, b, a, da0);
+  }
+#endif
 
   for_each_body_reverse(model, [&](auto I) {
     const int i = I;
@@ -636,15 +737,15 @@ struct FloatingDerivativeData : detail::DerivativeBuffers<S, T, FloatingModel<S,
 };
 
 namespace detail {
-template <class S, class T, class Q, class QD, class QDD, class Ext>
+template <class S, class T, class Q, class QD, class QDD, class Ext, class Solve = std::nullptr_t>
 void rnea_derivatives_impl(const Model<S, T>& model, Data<S, T>& data, DerivativeData<S, T>& dd,
                            const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<QD>& qd,
                            const Eigen::MatrixBase<QDD>& qdd, const Ext& fext, ForceFrame frame,
-                           bool after_minv = false) {
+                           bool after_minv = false, Solve&& solve = nullptr) {
   DerivativeRoot<S> root;
   root.a = -model.gravity_motion();
   rnea_derivatives_tree(model, data, dd.bodies, q, qd, qdd, fext, frame, root, model.gravity(), 0, dd.dtau_dq,
-                        dd.dtau_dv, data.tau, after_minv);
+                        dd.dtau_dv, data.tau, after_minv, std::forward<Solve>(solve));
 }
 }  // namespace detail
 
@@ -661,12 +762,15 @@ void rnea_derivatives(const Model<S, T>& model, Data<S, T>& data, DerivativeData
 }
 
 namespace detail {
-template <class S, class T, class Q, class V, class A, class Ext>
+/// `solve`: see rnea_derivatives_tree; here it is called with no argument once the bias forces are in data.tau (the
+/// free-flyer's six too), and must write q̈ into what `a` reads.
+template <class S, class T, class Q, class V, class A, class Ext, class Solve = std::nullptr_t>
 void rnea_derivatives_impl(const FloatingModel<S, T>& model, FloatingData<S, T>& data,
                            FloatingDerivativeData<S, T>& dd, const Eigen::MatrixBase<Q>& q,
                            const Eigen::MatrixBase<V>& v, const Eigen::MatrixBase<A>& a, const Ext& fext,
-                           ForceFrame frame, bool after_minv = false) {
+                           ForceFrame frame, bool after_minv = false, Solve&& solve = nullptr) {
   constexpr bool X = has_external_v<Ext>;
+  constexpr bool Solving = !std::is_same_v<std::decay_t<Solve>, std::nullptr_t>;
   constexpr int NJ = FloatingModel<S, T>::NJ;
   const int n = model.njoints();
   data.X0 = root_transform<S>(q);
@@ -674,7 +778,8 @@ void rnea_derivatives_impl(const FloatingModel<S, T>& model, FloatingData<S, T>&
   DerivativeRoot<S> root;
   root.floating = true;
   root.v = root_motion(v).template cast<S>();
-  root.a = root_motion(a).template cast<S>();
+  if constexpr (Solving) root.a = Motion<S>::Zero();  // q̈ = 0 until `solve`
+  else root.a = root_motion(a).template cast<S>();
   root.a.v -= g;
   data.v0 = root.v;
   data.a0 = root.a;
@@ -696,19 +801,38 @@ void rnea_derivatives_impl(const FloatingModel<S, T>& model, FloatingData<S, T>&
   const auto qj = joint_block<NJ>(q, 7, n);
   const auto vj = joint_block<NJ>(v, 6, n);
   const auto aj = joint_block<NJ>(a, 6, n);
+  // With `solve`: the root's bias wrench (its own force and its children's subtrees'), then q̈, then the root's
+  // acceleration and force with q̈'s free-flyer part.
+  auto tree_solve = [&]() -> decltype(auto) {
+    if constexpr (Solving) {
+      return [&](const Force<S>& children) {
+        const Force<S> w = root.F + children;
+        data.tau.template head<3>() = w.f;
+        data.tau.template segment<3>(3) = w.n;
+        solve();
+        const Motion<S> da0 = root_motion(a).template cast<S>();
+        root.a += da0;
+        root.F += I0 * da0;
+        data.a0 = root.a;
+        return da0;
+      };
+    } else {
+      return nullptr;
+    }
+  };
   if constexpr (X) {
     if (world_forces) {
       const TreeForcesFromWorld<S, Ext> tf{fext, data.X0};
       rnea_derivatives_tree(model.tree(), data.tree, dd.bodies, qj, vj, aj, tf, ForceFrame::Base, root, g, 6,
-                            dd.dtau_dq, dd.dtau_dv, data.tau, after_minv);
+                            dd.dtau_dq, dd.dtau_dv, data.tau, after_minv, tree_solve());
     } else {
       const TreeForces<Ext> tf{fext};
       rnea_derivatives_tree(model.tree(), data.tree, dd.bodies, qj, vj, aj, tf, ForceFrame::Body, root, g, 6,
-                            dd.dtau_dq, dd.dtau_dv, data.tau, after_minv);
+                            dd.dtau_dq, dd.dtau_dv, data.tau, after_minv, tree_solve());
     }
   } else {
     rnea_derivatives_tree(model.tree(), data.tree, dd.bodies, qj, vj, aj, fext, ForceFrame::Body, root, g, 6,
-                          dd.dtau_dq, dd.dtau_dv, data.tau, after_minv);
+                          dd.dtau_dq, dd.dtau_dv, data.tau, after_minv, tree_solve());
   }
   // The free-flyer's 6 × 6 block: rows Sₐ (Pₐ = Iᶜ₀ Sₐ, Qₐ = Bᶜ₀ᵀ Sₐ, Rₐ = Sₐ ×* Fˣ₀), columns as for any row.
   data.f0 = root.F;
@@ -833,10 +957,26 @@ void aba_derivatives(const Model<S, T>& model, Data<S, T>& data, DerivativeData<
   detail::check_sizes(model, "aba_derivatives", "q", q, "qd", qd, "tau", tau);
   // H⁻¹, leaving the body inertias in base coordinates where the derivatives' forward pass reads them (after_minv).
   const auto& Minv = detail::inverse_inertia_impl<true>(model, data, dd.minv, q, dd.bodies.Ic.data());
+  const auto solve = [&] {
+    data.tmp = tau - data.tau;
+    data.qdd.noalias() = Minv * data.tmp;
+  };
+#if SPATIAL_SIMD_AVX2
+  if constexpr (detail::simd_candidate<S, T>()) {
+    if (detail::simd_applies(model)) {
+      // The bias forces from the derivatives' own forward pass (rnea_derivatives_tree's `solve`).
+      detail::rnea_derivatives_impl(model, data, dd, q, qd, data.qdd, fext, frame, true, [&](const Force<S>&) {
+        solve();
+        return Motion<S>::Zero();
+      });
+      detail::aba_derivatives_products(dd, Minv);
+      return;
+    }
+  }
+#endif
   // The bias forces RNEA(q, q̇, 0, fext): RNEA without its acceleration term (q̈ = 0 is not added in).
   detail::rnea_impl<detail::kGravity | detail::kVelocity>(model, data, q, qd, qd, fext, frame, data.tau);
-  data.tmp = tau - data.tau;
-  data.qdd.noalias() = Minv * data.tmp;
+  solve();
   detail::rnea_derivatives_impl(model, data, dd, q, qd, data.qdd, fext, frame, true);
   detail::aba_derivatives_products(dd, Minv);
 }
@@ -850,9 +990,21 @@ void aba_derivatives(const FloatingModel<S, T>& model, FloatingData<S, T>& data,
   detail::check_v(model, v, "aba_derivatives", "v");
   detail::check_v(model, tau, "aba_derivatives", "tau");
   const auto& Minv = detail::inverse_inertia_impl<true>(model, data, dd.minv, q, dd.bodies.Ic.data());
+  const auto solve = [&] {
+    data.tmp = tau - data.tau;
+    data.qdd.noalias() = Minv * data.tmp;
+  };
+#if SPATIAL_SIMD_AVX2
+  if constexpr (detail::simd_candidate<S, T>()) {
+    if (detail::simd_applies(model.tree())) {
+      detail::rnea_derivatives_impl(model, data, dd, q, v, data.qdd, fext, frame, true, solve);
+      detail::aba_derivatives_products(dd, Minv);
+      return;
+    }
+  }
+#endif
   detail::rnea_floating<detail::kGravity | detail::kVelocity>(model, data, q, v, v, fext, frame, data.tau);
-  data.tmp = tau - data.tau;
-  data.qdd.noalias() = Minv * data.tmp;
+  solve();
   detail::rnea_derivatives_impl(model, data, dd, q, v, data.qdd, fext, frame, true);
   detail::aba_derivatives_products(dd, Minv);
 }
