@@ -476,9 +476,9 @@ Force<S> bias_backward(const Model<S, T>& model, Data<S, T>& data, const Derivat
 /// for a floating root, the free-flyer's rows (0…5) for the tree's columns and its columns for the tree's rows.
 /// `after_minv`: `inverse_inertia_impl` has just run at the same q with `b.Ic` as its `body_inertia` (aba_derivatives),
 /// so where the AVX2 kernels apply (to both alike) the forward pass reuses its transforms and inertias.
-/// `solve` (aba_derivatives, only where the AVX2 kernels apply: `bias_in_forward`): q̈ is not known yet. The forward
-/// pass runs at q̈ = 0, the bias forces τ₀ = RNEA(q, q̇, 0, fext) are summed from it into `tau` (`bias_backward`),
-/// `solve(F)` is then called with the sum F of the subtree forces of the root's children and must write q̈ where
+/// `solve` (aba_derivatives, only where the AVX2 kernels apply: simd_candidate and simd_applies): q̈ is not known
+/// yet. The forward pass runs at q̈ = 0, the bias forces τ₀ = RNEA(q, q̇, 0, fext) are summed from it into `tau`
+/// (`bias_backward`), `solve(F)` is then called with the sum F of the subtree forces of the root's children and must write q̈ where
 /// `a` reads it and return the root's Δa (zero on a fixed base), and q̈'s terms are added (`derivatives_accelerate`)
 /// before the backward pass: no separate RNEA for the bias forces.
 template <class S, class T, class Q, class V, class A, class Ext, class MQ, class MV, class Tau,
