@@ -6,6 +6,11 @@
 // support/derivative_checks.hpp.
 #include "support/derivative_checks.hpp"
 
+#include <limits>
+#include <string>
+#include <tuple>
+#include <type_traits>
+
 namespace {
 
 using namespace spatial;
@@ -83,6 +88,55 @@ TEST(RneaDerivatives, VelocityCouplingEqualsTheDenseSymmetricPart) {
   const Motion<double> x = motion();
   const Vector6<double> expect = dense_sum * x.vector(), got = (sum * x).vector();
   EXPECT_LT((expect - got).cwiseAbs().maxCoeff(), 1e-12 * (1.0 + expect.cwiseAbs().maxCoeff())) << "the subtree sum";
+}
+
+// aba_derivatives' products ∂q̈/∂x = −H⁻¹ ∂τ/∂x over run-time trees go column by column in strips of Eigen's packets
+// (detail::runtime_products): both products at once where they fit the registers, else one after the other in strips
+// of up to eight packets and a rest. Every n from 1 to 40, fixed and floating, double and float, covers every number
+// of packets and every rest on this build's packet size; the result must equal the dense product of the returned
+// ∂q̈/∂τ and ∂τ/∂x within the rounding of an n-term sum.
+template <class S, class M>
+void expect_products(const M& model, unsigned seed, const std::string& what) {
+  using V = Eigen::Matrix<S, Eigen::Dynamic, 1>;
+  using X = Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>;
+  std::mt19937 rng(seed);
+  const int nv = model.nv();
+  V q;
+  if constexpr (std::is_same_v<M, Model<S>>) {
+    q = random_vector(nv, rng, 1.0).template cast<S>();
+  } else {
+    const Vec lo = Vec::Constant(model.tree().size(), -1.0), hi = -lo;
+    q = random_configuration(model.template cast<double>(), lo, hi, rng).template cast<S>();
+  }
+  const V v = random_vector(nv, rng, 2.0).template cast<S>(), tau = random_vector(nv, rng, 2.0).template cast<S>();
+  typename std::conditional_t<std::is_same_v<M, Model<S>>, Data<S>, FloatingData<S>> data(model);
+  typename std::conditional_t<std::is_same_v<M, Model<S>>, DerivativeData<S>, FloatingDerivativeData<S>> dd(model);
+  aba_derivatives(model, data, dd, q, v, tau);
+  const X& minv = dd.dqdd_dtau;
+  for (const auto& [dtau, dqdd, name] : {std::tuple<const X&, const X&, const char*>{dd.dtau_dq, dd.dqdd_dq, "dqdd_dq"},
+                                         std::tuple<const X&, const X&, const char*>{dd.dtau_dv, dd.dqdd_dv, "dqdd_dv"}}) {
+    const X dense = -(minv * dtau);
+    const X bound = minv.cwiseAbs() * dtau.cwiseAbs();
+    const S tol = S(4 * nv) * std::numeric_limits<S>::epsilon();
+    const auto over = ((dqdd - dense).cwiseAbs().array() > tol * bound.array() + std::numeric_limits<S>::min()).count();
+    EXPECT_EQ(over, 0) << what << ", nv = " << nv << ", " << name << ": largest difference "
+                       << (dqdd - dense).cwiseAbs().maxCoeff();
+  }
+}
+
+TEST(AbaDerivatives, RunTimeTreeProductsEqualTheDenseProductsAtEverySize) {
+  for (int n = 1; n <= 40; ++n) {
+    const unsigned seed = 200 + static_cast<unsigned>(n);
+    const Shape shape = n % 2 ? Shape::Chain : Shape::Branched;
+    const Model<double> fixed = random_model(n, shape, seed);
+    expect_products<double>(fixed, seed, "fixed, double");
+    expect_products<float>(fixed.template cast<float>(), seed, "fixed, float");
+    if (n <= 34) {
+      const FloatingModel<double> floating = random_floating(n, shape, seed);
+      expect_products<double>(floating, seed, "floating, double");
+      expect_products<float>(floating.template cast<float>(), seed, "floating, float");
+    }
+  }
 }
 
 }  // namespace

@@ -683,7 +683,7 @@ struct DerivativeBuffers {
 
   DerivativeBuffers(const Model<S, T>& tree, int n)
       : bodies(tree), dtau_dq(Matrix::Zero(n, n)), dtau_dv(Matrix::Zero(n, n)), dqdd_dq(Matrix::Zero(n, n)),
-        dqdd_dv(Matrix::Zero(n, n)), dqdd_dtau(Matrix::Zero(n, n)) {
+        dqdd_dv(Matrix::Zero(n, n)), dqdd_dtau(Matrix::Zero(n, n)), minv_padded(PaddedMatrix::Zero(padded(n), n)) {
     // Column c's structural non-zeros: rows of joints that are c's ancestors, c itself or its descendants, and on
     // a floating base (n = bodies + 6) the free-flyer's six rows and columns whole.
     const int off = n - tree.size();
@@ -708,11 +708,12 @@ struct DerivativeBuffers {
   static constexpr int kCols = Matrix::ColsAtCompileTime;
   static constexpr int kPacket =
       Eigen::internal::unpacket_traits<typename Eigen::internal::packet_traits<S>::type>::size;
+  static constexpr int padded(int n) { return (n + kPacket - 1) / kPacket * kPacket; }
+  /// aba_derivatives' copy of H⁻¹ with rows of zeros below it up to a whole number of Eigen's packets, so that its
+  /// columns are whole packets (`aba_derivatives_products`).
   static constexpr int kPadded = kCols == Eigen::Dynamic ? 0 : (kCols + kPacket - 1) / kPacket * kPacket;
-  /// aba_derivatives' copy of H⁻¹ with rows of zeros below it up to a whole number of Eigen's packets (compile-time
-  /// sizes only), so that its columns are whole packets (`aba_derivatives_products`).
-  using PaddedMatrix = Eigen::Matrix<S, kPadded, kCols == Eigen::Dynamic ? 0 : kCols>;
-  PaddedMatrix minv_padded = PaddedMatrix::Zero();
+  using PaddedMatrix = Eigen::Matrix<S, kCols == Eigen::Dynamic ? Eigen::Dynamic : kPadded, kCols>;
+  PaddedMatrix minv_padded;
 };
 }  // namespace detail
 
@@ -865,13 +866,92 @@ void rnea_derivatives(const FloatingModel<S, T>& model, FloatingData<S, T>& data
 }
 
 namespace detail {
+/// Rows [k0 L, (k0 + K) L) of column c of NP products −H⁻¹ Dₚ (L: Eigen's packet size), in NP K packets that stay in
+/// registers: `mi` is H⁻¹ with `p` rows (n rounded up to whole packets, zeros below n), d[ₚ] the n × n Dₚ, o[ₚ] the
+/// n × n result, column c's structural non-zeros rows[t0 … t1 − 1]; the rows from n on are not stored.
+template <int K, int NP, class S>
+inline void product_strip(const S* mi, int p, const S* const* d, S* const* o, int n, int c, const int* rows, int t0,
+                          int t1, int k0) {
+  using Packet = typename Eigen::internal::packet_traits<S>::type;
+  constexpr int L = static_cast<int>(sizeof(Packet) / sizeof(S));  // (unpacket_traits<Packet>: g++ -Wignored-attributes)
+  Packet y[NP][K];
+  for (int j = 0; j < NP; ++j)
+    for (int k = 0; k < K; ++k) y[j][k] = Eigen::internal::pset1<Packet>(S(0));
+  const S* const strip = mi + k0 * L;
+  for (int t = t0; t < t1; ++t) {
+    const int r = rows[t];
+    Packet x[NP];
+    for (int j = 0; j < NP; ++j) x[j] = Eigen::internal::pset1<Packet>(-d[j][c * n + r]);
+    const S* const col = strip + r * p;
+    for (int k = 0; k < K; ++k) {
+      const Packet m = Eigen::internal::ploadu<Packet>(col + k * L);
+      for (int j = 0; j < NP; ++j) y[j][k] = Eigen::internal::pmadd(m, x[j], y[j][k]);
+    }
+  }
+  for (int k = 0; k < K; ++k) {
+    const int row = (k0 + k) * L;
+    for (int j = 0; j < NP; ++j) {
+      S* const out = o[j] + c * n + row;
+      if (row + L <= n) {
+        Eigen::internal::pstoreu(out, y[j][k]);
+      } else {
+        alignas(64) S tail[L];
+        Eigen::internal::pstoreu(tail, y[j][k]);
+        for (int i = 0; row + i < n; ++i) out[i] = tail[i];
+      }
+    }
+  }
+}
+
+/// `product_strip` of `left` packets (0 < left < K), from packet k0 on.
+template <int K, int NP, class S>
+inline void product_strip_of(int left, const S* mi, int p, const S* const* d, S* const* o, int n, int c,
+                             const int* rows, int t0, int t1, int k0) {
+  if constexpr (K > 1) {
+    if (left == K - 1) return product_strip<K - 1, NP>(mi, p, d, o, n, c, rows, t0, t1, k0);
+    product_strip_of<K - 1, NP>(left, mi, p, d, o, n, c, rows, t0, t1, k0);
+  }
+}
+
+/// The products of `aba_derivatives_products` over a run-time tree (floating-point scalars): column by column from
+/// `minv_padded` through `product_strip`, both products at once where the column's packets for both and the two
+/// broadcasts fit the registers (stance21 on AVX2: 6 packets), else one product after the other in strips of at
+/// most eight packets (floating27 on AVX2: 7). Before, Eigen's loops over run-time columns (one axpy per
+/// structural non-zero and product) took 60 % of the run-time stance21's `aba_derivatives`.
+template <class DD, class M>
+void runtime_products(DD& dd, const M& Minv) {
+  using S = typename M::Scalar;
+  constexpr int L = std::decay_t<DD>::kPacket, R = EIGEN_ARCH_DEFAULT_NUMBER_OF_REGISTERS;
+  constexpr int Both = (R - 3) / 2, One = std::min(R - 2, 8);
+  const int n = static_cast<int>(Minv.cols());
+  dd.minv_padded.topRows(n) = Minv;
+  const int p = static_cast<int>(dd.minv_padded.rows()), packets = p / L;
+  const S* const mi = dd.minv_padded.data();
+  const S* const d[2] = {dd.dtau_dq.data(), dd.dtau_dv.data()};
+  S* const o[2] = {dd.dqdd_dq.data(), dd.dqdd_dv.data()};
+  const int* const rows = dd.support_rows.data();
+  for (int c = 0; c < n; ++c) {
+    const int t0 = dd.support_start[static_cast<std::size_t>(c)];
+    const int t1 = dd.support_start[static_cast<std::size_t>(c) + 1];
+    if (packets <= Both) {
+      product_strip_of<Both + 1, 2>(packets, mi, p, d, o, n, c, rows, t0, t1, 0);
+      continue;
+    }
+    for (int j = 0; j < 2; ++j) {
+      int k0 = 0;
+      for (; k0 + One <= packets; k0 += One) product_strip<One, 1>(mi, p, d + j, o + j, n, c, rows, t0, t1, k0);
+      if (k0 < packets) product_strip_of<One, 1>(packets - k0, mi, p, d + j, o + j, n, c, rows, t0, t1, k0);
+    }
+  }
+}
+
 /// ∂q̈/∂τ = H⁻¹, ∂q̈/∂q = −H⁻¹ ∂τ/∂q, ∂q̈/∂v = −H⁻¹ ∂τ/∂v. H⁻¹ is dense but ∂τ/∂q and ∂τ/∂v have H's pattern
 /// (`support_rows`), so column c of each product sums only the columns of H⁻¹ of the joints related to c: 301 of
 /// 441 per product for stance21 (rooted at a sole, the stance leg is everyone's ancestor), 409 of 729 for
 /// floating27. (Eigen's dense product, its blocked kernel and packing, took a quarter of `aba_derivatives`'
-/// instructions on stance21.) With compile-time sizes H⁻¹ is read from `minv_padded`, whose columns are whole
-/// packets: the column sums stay in registers (n = 21 is no multiple of a packet, and Eigen went through 2-wide
-/// packets for a column of H⁻¹ itself).
+/// instructions on stance21.) H⁻¹ is read from `minv_padded`, whose columns are whole packets: the column sums stay
+/// in registers (n = 21 is no multiple of a packet, and Eigen went through 2-wide packets for a column of H⁻¹
+/// itself); run-time trees through `runtime_products`.
 template <class DD, class M>
 void aba_derivatives_products(DD& dd, const M& Minv) {
   using S = typename M::Scalar;
@@ -883,8 +963,10 @@ void aba_derivatives_products(DD& dd, const M& Minv) {
   // (floating27 on AVX2: 2 · 7 + 2 > 16, which made clang's ABA derivatives 15 % slower than one product at a time).
   constexpr bool in_registers = P != 0 && std::is_floating_point_v<S> &&
                                 2 * K + 3 <= EIGEN_ARCH_DEFAULT_NUMBER_OF_REGISTERS;
-  if constexpr (P != 0) dd.minv_padded.template topRows<N>() = Minv;
-  if constexpr (in_registers) {
+  if constexpr (N == Eigen::Dynamic && std::is_floating_point_v<S>) {
+    runtime_products(dd, Minv);
+  } else if constexpr (in_registers) {
+    dd.minv_padded.template topRows<N>() = Minv;
     // Column c of both products at once, in 2 K packets: each column of H⁻¹ is loaded once for the two.
     using Packet = typename Eigen::internal::packet_traits<S>::type;
     constexpr int Whole = N / L;
@@ -924,7 +1006,8 @@ void aba_derivatives_products(DD& dd, const M& Minv) {
       }
     }
   } else {
-    // One product after the other, column by column (AD scalars, run-time sizes, and trees too large for the above).
+    // One product after the other, column by column (AD scalars, and compile-time trees too large for the above).
+    if constexpr (P != 0) dd.minv_padded.template topRows<N>() = Minv;
     for (Eigen::Index c = 0; c < Minv.cols(); ++c) {
       const int t0 = dd.support_start[static_cast<std::size_t>(c)];
       const int t1 = dd.support_start[static_cast<std::size_t>(c) + 1];  // > t0: row c itself
