@@ -676,6 +676,9 @@ void rnea_derivatives_tree(const Model<S, T>& model, Data<S, T>& data, Derivativ
 }  // namespace detail
 
 namespace detail {
+/// n rounded up to a whole number of m (the rows of a matrix whose columns are whole packets of m entries).
+constexpr int round_up(int n, int m) { return (n + m - 1) / m * m; }
+
 /// The buffers and results both derivative data types hold: per-body scratch of the tree and N × N matrices.
 template <class S, class T, int N>
 struct DerivativeBuffers {
@@ -683,7 +686,8 @@ struct DerivativeBuffers {
 
   DerivativeBuffers(const Model<S, T>& tree, int n)
       : bodies(tree), dtau_dq(Matrix::Zero(n, n)), dtau_dv(Matrix::Zero(n, n)), dqdd_dq(Matrix::Zero(n, n)),
-        dqdd_dv(Matrix::Zero(n, n)), dqdd_dtau(Matrix::Zero(n, n)), minv_padded(PaddedMatrix::Zero(padded(n), n)) {
+        dqdd_dv(Matrix::Zero(n, n)), dqdd_dtau(Matrix::Zero(n, n)),
+        minv_padded(PaddedMatrix::Zero(round_up(n, kPacket), n)) {
     // Column c's structural non-zeros: rows of joints that are c's ancestors, c itself or its descendants, and on
     // a floating base (n = bodies + 6) the free-flyer's six rows and columns whole.
     const int off = n - tree.size();
@@ -708,10 +712,9 @@ struct DerivativeBuffers {
   static constexpr int kCols = Matrix::ColsAtCompileTime;
   static constexpr int kPacket =
       Eigen::internal::unpacket_traits<typename Eigen::internal::packet_traits<S>::type>::size;
-  static constexpr int padded(int n) { return (n + kPacket - 1) / kPacket * kPacket; }
   /// aba_derivatives' copy of H⁻¹ with rows of zeros below it up to a whole number of Eigen's packets, so that its
   /// columns are whole packets (`aba_derivatives_products`).
-  static constexpr int kPadded = kCols == Eigen::Dynamic ? 0 : (kCols + kPacket - 1) / kPacket * kPacket;
+  static constexpr int kPadded = kCols == Eigen::Dynamic ? 0 : round_up(kCols, kPacket);
   using PaddedMatrix = Eigen::Matrix<S, kCols == Eigen::Dynamic ? Eigen::Dynamic : kPadded, kCols>;
   PaddedMatrix minv_padded;
 };
