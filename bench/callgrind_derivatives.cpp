@@ -1,5 +1,6 @@
 // Instruction counts of the analytical derivatives (RNEA derivatives, ABA derivatives) on stance21 (hoap3_stance_right,
-// compile-time tree) and floating27 (hoap3_floating) under callgrind. docs/performance.md, "Derivatives and H⁻¹".
+// compile-time tree) and floating27 (hoap3_floating), do_rd … do_fad, and on their run-time twins (`to_runtime()`),
+// do_rt_rd … do_rt_fad, under callgrind. docs/performance.md, "Derivatives and H⁻¹".
 //   g++|clang++ -std=c++17 -O3 -march=x86-64-v3 -g -DNDEBUG -Iinclude -Ibuild/src/models/include
 //     -isystem /usr/include/eigen3 bench/callgrind_derivatives.cpp -o /tmp/cgd
 //   valgrind --tool=callgrind --callgrind-out-file=/tmp/cgd.out /tmp/cgd 500 &&
@@ -33,6 +34,25 @@ __attribute__((noinline)) void do_frd(const FM& m, FD& d, FDD& dd, const VQ& q, 
 __attribute__((noinline)) void do_fad(const FM& m, FD& d, FDD& dd, const VQ& q, const VV& v, const VV& t) {
   aba_derivatives(m, d, dd, q, v, t);
 }
+using RTM = Model<double, DynamicTree>;
+using RTD = Data<double, DynamicTree>;
+using RTDD = DerivativeData<double, DynamicTree>;
+using FTM = FloatingModel<double, DynamicTree>;
+using FTD = FloatingData<double, DynamicTree>;
+using FTDD = FloatingDerivativeData<double, DynamicTree>;
+using VX = Eigen::VectorXd;
+__attribute__((noinline)) void do_rt_rd(const RTM& m, RTD& d, RTDD& dd, const VX& q, const VX& v, const VX& a) {
+  rnea_derivatives(m, d, dd, q, v, a);
+}
+__attribute__((noinline)) void do_rt_ad(const RTM& m, RTD& d, RTDD& dd, const VX& q, const VX& v, const VX& t) {
+  aba_derivatives(m, d, dd, q, v, t);
+}
+__attribute__((noinline)) void do_rt_frd(const FTM& m, FTD& d, FTDD& dd, const VX& q, const VX& v, const VX& a) {
+  rnea_derivatives(m, d, dd, q, v, a);
+}
+__attribute__((noinline)) void do_rt_fad(const FTM& m, FTD& d, FTDD& dd, const VX& q, const VX& v, const VX& t) {
+  aba_derivatives(m, d, dd, q, v, t);
+}
 int main(int argc, char** argv) {
   const int n = argc > 1 ? std::atoi(argv[1]) : 1000;
   const RM rm = R::model();
@@ -41,6 +61,12 @@ int main(int argc, char** argv) {
   const FM fm = F::floating_model();
   FD fd(fm);
   FDD fdd(fm);
+  const RTM rtm = rm.to_runtime();
+  RTD rtd(rtm);
+  RTDD rtdd(rtm);
+  const FTM ftm = fm.to_runtime();
+  FTD ftd(ftm);
+  FTDD ftdd(ftm);
   std::vector<VQ> qs(64);
   std::vector<VV> vs(64);
   std::mt19937 rng(1);
@@ -61,6 +87,15 @@ int main(int argc, char** argv) {
     s += fdd.dtau_dq.sum() + fdd.dtau_dv.sum();
     do_fad(fm, fd, fdd, q, v, a);
     s += fdd.dqdd_dq.sum() + fdd.dqdd_dv.sum();
+    const VX qx = q, vx = v, ax = a, qjx = qj, vjx = vj, ajx = aj;
+    do_rt_rd(rtm, rtd, rtdd, qjx, vjx, ajx);
+    s += rtdd.dtau_dq.sum() + rtdd.dtau_dv.sum();
+    do_rt_ad(rtm, rtd, rtdd, qjx, vjx, ajx);
+    s += rtdd.dqdd_dq.sum() + rtdd.dqdd_dv.sum();
+    do_rt_frd(ftm, ftd, ftdd, qx, vx, ax);
+    s += ftdd.dtau_dq.sum() + ftdd.dtau_dv.sum();
+    do_rt_fad(ftm, ftd, ftdd, qx, vx, ax);
+    s += ftdd.dqdd_dq.sum() + ftdd.dqdd_dv.sum();
   }
   std::printf("%.12g\n", s);
 }
