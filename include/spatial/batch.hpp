@@ -28,11 +28,16 @@
 /// -march=native, or -mavx2 -mfma, for wide lanes; the default x86-64 target gets SSE2's two doubles).
 ///
 /// ## Numbers against the single-state calls
-/// The operations are those of the scalar code path (sines and cosines included), but not bit for bit those of a
-/// single-state call: the single-state double calls on compile-time trees of axis-aligned revolute joints take the
-/// AVX2 kernels of simd.hpp (another order of the same sums), and the compiler contracts multiply-adds into FMAs at
-/// different places in vector and in scalar code. They agree to a few units in the last place of
-/// the result's scale (tests/support/batch_checks.hpp holds them to 1e-13 relative in double, 3e-5 in float).
+/// The operations are those of the scalar code path, but not bit for bit those of a single-state call: the
+/// single-state double calls on compile-time trees of axis-aligned revolute joints take the AVX2 kernels of simd.hpp
+/// (another order of the same sums), and the compiler contracts multiply-adds into FMAs at different places in
+/// vector and in scalar code. In double they agree to a few units in the last place of the result's scale
+/// (tests/support/batch_checks.hpp holds them to 1e-13 relative). Float lanes compute their sines and cosines in
+/// float (`sincos_lanes`, within two float spacings of the correctly rounded values; the single-state float calls
+/// round the double kernel's), which took 15 % off a batched float RNEA against the detour through double (README);
+/// the float results are therefore other roundings of the same quantities, as accurate against the double calls as
+/// the single-state float calls are (batch_checks.hpp: over all states, never more than twice as far; where H is
+/// badly conditioned, q̈ of CRBA + LTDL on stance21, both are ~1e-3 from double in some states).
 ///
 /// ## Cost and limits
 /// Allocation-free after construction, no exception, no virtual call. Fixed-base trees, compile-time or run-time,
@@ -83,69 +88,58 @@ template <class S>
 using Lanes = xsimd::batch<S>;
 
 namespace detail {
-/// sin and cos of double lanes: sincos.hpp's `sincos_reduce` and `sincos_quadrant` on the batch, every operation
-/// lane-wise (xsimd's own sin and cos pick their argument reduction by testing all lanes, so a lane's result would
-/// depend on the other states of its group); lanes with |x| ≥ kSincosFastLimit, Inf or NaN are redone one by one
-/// through std::sin and std::cos, as in the single-state path.
-template <class A>
-SPATIAL_INLINE void sincos_lanes(const xsimd::batch<double, A>& x, xsimd::batch<double, A>& s,
-                                 xsimd::batch<double, A>& c) {
-  using D = xsimd::batch<double, A>;
-  using U = xsimd::batch<std::uint64_t, A>;
-  D t, sr, cr;
-  sincos_reduce(x, t, sr, cr);
+/// sin and cos of the lanes, every operation lane-wise (xsimd's own sin and cos pick their argument reduction by
+/// testing all lanes, so a lane's result would depend on the other states of its group): sincos.hpp's kernels on
+/// the batch, `sincos_reduce` for double lanes and `sincos_reduce_float` for float lanes (float throughout), then
+/// `sincos_quadrant`. Lanes beyond the kernel's limit (kSincosFastLimit, kSincosFloatFastLimit), Inf or NaN are
+/// redone one by one in double as the single-state calls compute them: sincos_reduced below 1e5, else std::sin
+/// and std::cos (rounded to float for float lanes).
+template <class T, class A>
+SPATIAL_INLINE void sincos_lanes(const xsimd::batch<T, A>& x, xsimd::batch<T, A>& s, xsimd::batch<T, A>& c) {
+  constexpr bool is_float = std::is_same_v<T, float>;
+  using B = xsimd::batch<T, A>;
+  using U = xsimd::batch<std::conditional_t<is_float, std::uint32_t, std::uint64_t>, A>;
+  B t, sr, cr;
+  if constexpr (is_float) sincos_reduce_float(x, t, sr, cr);
+  else sincos_reduce(x, t, sr, cr);
   U sin_bits, cos_bits;
-  sincos_quadrant(xsimd::bitwise_cast<U>(t), xsimd::bitwise_cast<U>(sr), xsimd::bitwise_cast<U>(cr), sin_bits,
-                  cos_bits);
-  s = xsimd::bitwise_cast<D>(sin_bits);
-  c = xsimd::bitwise_cast<D>(cos_bits);
-  const auto slow = !(xsimd::abs(x) < D(kSincosFastLimit));
+  sincos_quadrant<8 * sizeof(T)>(xsimd::bitwise_cast<U>(t), xsimd::bitwise_cast<U>(sr), xsimd::bitwise_cast<U>(cr),
+                                 sin_bits, cos_bits);
+  s = xsimd::bitwise_cast<B>(sin_bits);
+  c = xsimd::bitwise_cast<B>(cos_bits);
+  const T limit = is_float ? T(kSincosFloatFastLimit) : T(kSincosFastLimit);
+  const auto slow = !(xsimd::abs(x) < B(limit));
   if (xsimd::any(slow)) {
-    constexpr std::size_t n = D::size;
-    alignas(A::alignment()) double xs[n], ss[n], cs[n];
+    constexpr std::size_t n = B::size;
+    alignas(A::alignment()) T xs[n], ss[n], cs[n];
     x.store_aligned(xs);
     s.store_aligned(ss);
     c.store_aligned(cs);
     for (std::size_t l = 0; l < n; ++l)
-      if (!(std::abs(xs[l]) < kSincosFastLimit)) {
-        ss[l] = std::sin(xs[l]);
-        cs[l] = std::cos(xs[l]);
+      if (!(std::abs(xs[l]) < limit)) {
+        const double xd = static_cast<double>(xs[l]);
+        double sd, cd;
+        if (std::abs(xd) < kSincosFastLimit) {
+          sincos_reduced(xd, sd, cd);
+        } else {
+          sd = std::sin(xd);
+          cd = std::cos(xd);
+        }
+        ss[l] = static_cast<T>(sd);
+        cs[l] = static_cast<T>(cd);
       }
-    s = D::load_aligned(ss);
-    c = D::load_aligned(cs);
+    s = B::load_aligned(ss);
+    c = B::load_aligned(cs);
   }
 }
 
-/// sin and cos of all lanes (sincos.hpp's customisation point): double lanes through `sincos_lanes`; float lanes
-/// in double, two halves, then rounded to float, as the single-state float path computes them.
+/// sin and cos of all lanes (sincos.hpp's customisation point): `sincos_lanes`.
 template <class T, class A>
 struct SincosTraits<xsimd::batch<T, A>> {
+  static_assert(std::is_same_v<T, double> || std::is_same_v<T, float>, "batch.hpp: lanes of float or double");
   static constexpr bool custom = true;
   static SPATIAL_INLINE void sincos(const xsimd::batch<T, A>& x, xsimd::batch<T, A>& s, xsimd::batch<T, A>& c) {
-    if constexpr (std::is_same_v<T, double>) {
-      sincos_lanes(x, s, c);
-    } else {
-      static_assert(std::is_same_v<T, float>, "batch.hpp: lanes of float or double");
-      using D = xsimd::batch<double, A>;
-      constexpr std::size_t n = xsimd::batch<T, A>::size, h = D::size;
-      static_assert(n == 2 * h, "a register holds twice as many floats as doubles");
-      alignas(A::alignment()) float xf[n], sf[n], cf[n];
-      alignas(A::alignment()) double xd[n], sd[n], cd[n];
-      x.store_aligned(xf);
-      for (std::size_t l = 0; l < n; ++l) xd[l] = static_cast<double>(xf[l]);
-      for (std::size_t half = 0; half < 2; ++half) {
-        D sh, ch;
-        sincos_lanes(D::load_aligned(xd + half * h), sh, ch);
-        sh.store_aligned(sd + half * h);
-        ch.store_aligned(cd + half * h);
-      }
-      for (std::size_t l = 0; l < n; ++l) {
-        sf[l] = static_cast<float>(sd[l]);
-        cf[l] = static_cast<float>(cd[l]);
-      }
-      s = xsimd::batch<T, A>::load_aligned(sf);
-      c = xsimd::batch<T, A>::load_aligned(cf);
-    }
+    sincos_lanes(x, s, c);
   }
 };
 

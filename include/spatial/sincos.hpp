@@ -61,16 +61,43 @@ SPATIAL_INLINE void sincos_reduce(const T& x, T& t, T& sr, T& cr) {
   cr = w + (((T(1.0) - w) - hz) + z * z * pc);
 }
 
-/// The quadrant fix-up on the bit patterns (U = std::uint64_t or a batch of them): quadrant k mod 4 gives
-/// (sin, cos) = (sr, cr), (cr, −sr), (−sr, −cr), (−cr, sr). Selected and signed with bit operations rather than
-/// branches or floating-point comparisons, so that loops over it vectorise.
-template <class U>
+/// `sincos_reduce` in float arithmetic throughout, for batches of floats (batch.hpp's float lanes; T = a batch):
+/// k by the 1.5·2²³ rounding trick, a four-part Cody–Waite reduction by π/2 whose first three parts have 8, 12 and
+/// 12 significant bits (so that k·p1, k·p2 and k·p3 are exact for |k| < 2¹², which |x| < kSincosFloatFastLimit
+/// ensures; the fourth keeps the relative accuracy of r when x is close to a multiple of π/2), and minimax polynomials of degrees 7 (sine) and 8 (cosine) on [−π/4, π/4] (the coefficients of Cephes' sinf and
+/// cosf). Within two float spacings of the correctly rounded sine and cosine for joint angles (tests/support/
+/// batch_suite.hpp measures it); the quadrant fix-up is `sincos_quadrant<32>` on the bits of t.
+template <class T>
+SPATIAL_INLINE void sincos_reduce_float(const T& x, T& t, T& sr, T& cr) {
+  const T two_over_pi(6.36619772e-01f);
+  const T round_magic(12582912.0f);  // 1.5 · 2²³: t's low significand bits hold k in two's complement
+  t = x * two_over_pi + round_magic;
+  const T kd = t - round_magic;
+  const T p1(1.5703125f);                  // 201 / 128
+  const T p2(4.8387050628662109e-04f);     // 12 significant bits
+  const T p3(-4.3713953346014023e-08f);    // 12 significant bits
+  const T p4(2.5633440682570896e-12f);     // π/2 − p1 − p2 − p3, rounded to float
+  const T r = (((x - kd * p1) - kd * p2) - kd * p3) - kd * p4;
+  const T z = r * r;
+  sr = r + r * z * (T(-1.6666654611e-1f) + z * (T(8.3321608736e-3f) + z * T(-1.9515295891e-4f)));
+  cr = (T(1.0f) - T(0.5f) * z) +
+       z * z * (T(4.166664568298827e-2f) + z * (T(-1.388731625493765e-3f) + z * T(2.443315711809948e-5f)));
+}
+
+/// |x| below which `sincos_reduce_float` applies (k·p2 exact); other lanes take the double kernel.
+inline constexpr float kSincosFloatFastLimit = 4096.0f;
+
+/// The quadrant fix-up on the bit patterns (U = std::uint64_t or a batch of them, or with Bits = 32 a batch of
+/// std::uint32_t holding floats): quadrant k mod 4 gives (sin, cos) = (sr, cr), (cr, −sr), (−sr, −cr), (−cr, sr).
+/// Selected and signed with bit operations rather than branches or floating-point comparisons, so that loops over
+/// it vectorise.
+template <int Bits = 64, class U>
 SPATIAL_INLINE void sincos_quadrant(const U& kbits, const U& sbits, const U& cbits, U& sin_bits, U& cos_bits) {
   const U odd = U(0) - (kbits & U(1));  // all ones in quadrants 1 and 3
   sin_bits = (sbits & ~odd) | (cbits & odd);
   cos_bits = (cbits & ~odd) | (sbits & odd);
-  sin_bits = sin_bits ^ ((kbits & U(2)) << 62);        // negative in quadrants 2 and 3
-  cos_bits = cos_bits ^ (((kbits + U(1)) & U(2)) << 62);  // negative in quadrants 1 and 2
+  sin_bits = sin_bits ^ ((kbits & U(2)) << (Bits - 2));        // negative in quadrants 2 and 3
+  cos_bits = cos_bits ^ (((kbits + U(1)) & U(2)) << (Bits - 2));  // negative in quadrants 1 and 2
 }
 
 /// sin and cos of x for |x| < kSincosFastLimit (no branch: suitable for vectorised loops).

@@ -3,9 +3,13 @@
 // target: SSE2 lanes, 2 doubles / 4 floats; NEON on aarch64) and simd_batch.cpp (-mavx2 -mfma: 4 doubles / 8 floats).
 //
 // What is checked, per model, for double and float, for every B from 1 to 3 × lanes + 1, threads 1 and 2:
-//  - every batched result equals the single-state call on the same state: to 1e-13 relative to the result's largest
-//    entry in double (2e-12 for ABA and CRBA + LTDL, whose q̈ carries the conditioning of H), 4e-5 in float
-//    (what the float single-state call gives against double: the same code, a few ulps apart; see batch.hpp);
+//  - in double, every batched result equals the single-state call on the same state: to 1e-13 relative to the
+//    result's largest entry (2e-12 for ABA and CRBA + LTDL, whose q̈ carries the conditioning of H);
+//  - in float, the batched results are as accurate as the single-state float calls: over all the states of a
+//    method, the largest distance of a batched result from the double single-state call is at most 4e-5 or twice
+//    the single-state float call's largest (the float lanes compute their sines and cosines in float, a float
+//    spacing or so from the single-state call's, so the two float results are not the same numbers; where H is
+//    badly conditioned, q̈ of CRBA + LTDL on stance21, both are ~1e-3 from the double result in some states);
 //  - a state's result is the same bits whatever B, the thread count and its neighbours: state j of the 3L+1 batch
 //    on one thread = on two threads = state j alone (B = 1, where the group's other lanes repeat it);
 //  - a NaN in one state stays in that state: the other states' results keep their bits (and RNEA's result of the
@@ -156,9 +160,14 @@ void check_batch(const Model<double, T>& model64, const std::string& label, unsi
   const int n = model.size();
   const bool is_float = std::is_same_v<S, float>;
   std::mt19937 rng(seed);
-  for (const auto& c : batch_cases(model)) {
-    const double tol = is_float ? 4e-5 : c.tol_double;
-    double worst = 0;
+  // The double calls, for the float single-state call's own error (the float tolerance).
+  Data<double, T> data64(model64);
+  const auto cases64 = batch_cases(model64);
+  const auto cases = batch_cases(model);
+  for (std::size_t ci = 0; ci < cases.size(); ++ci) {
+    const auto& c = cases[ci];
+    double worst = 0;                                 // double: largest distance from the single-state call
+    double worst_single = 0, worst_batched = 0;       // float: largest distances from the double call
     for (int B = 1; B <= 3 * L + 1; ++B) {
       const BatchMatrix<S> Q = random_states<S>(n, B, rng, 2.0), V = random_states<S>(n, B, rng, 2.0),
                            A = random_states<S>(n, B, rng, 2.0);
@@ -171,10 +180,18 @@ void check_batch(const Model<double, T>& model64, const std::string& label, unsi
       for (int j = 0; j < B; ++j) {
         const auto got = out1.middleCols(j * c.width, c.width);
         const BatchMatrix<S> want = c.single(model, data, Q.col(j), V.col(j), A.col(j));
-        const double e = batch_rel_diff(got, want);
-        worst = std::max(worst, e);
-        EXPECT_LE(e, tol) << label << " " << c.name << " (" << (is_float ? "float" : "double") << "): B = " << B
-                          << ", state " << j;
+        if (is_float) {
+          const Eigen::VectorXd q64 = Q.col(j).template cast<double>(), v64 = V.col(j).template cast<double>(),
+                                a64 = A.col(j).template cast<double>();
+          const BatchMatrix<double> exact = cases64[ci].single(model64, data64, q64, v64, a64);
+          worst_single = std::max(worst_single, batch_rel_diff(want, exact));
+          worst_batched = std::max(worst_batched, batch_rel_diff(got, exact));
+          EXPECT_TRUE(got.allFinite()) << label << " " << c.name << " (float): B = " << B << ", state " << j;
+        } else {
+          const double e = batch_rel_diff(got, want);
+          worst = std::max(worst, e);
+          EXPECT_LE(e, c.tol_double) << label << " " << c.name << " (double): B = " << B << ", state " << j;
+        }
       }
       if (B == 3 * L + 1) {
         // Each state alone (B = 1) gives the bits it has in the full batch.
@@ -212,8 +229,17 @@ void check_batch(const Model<double, T>& model64, const std::string& label, unsi
         }
       }
     }
-    std::printf("[ batch ] %-16s %-40s %-6s lanes %2d: max rel. diff from the single-state call %.1e\n",
-                label.c_str(), c.name.c_str(), is_float ? "float" : "double", L, worst);
+    if (is_float) {
+      EXPECT_LE(worst_batched, std::max(4e-5, 2 * worst_single))
+          << label << " " << c.name << " (float): the batched results are further from the double results than the "
+          << "single-state float calls";
+      std::printf("[ batch ] %-16s %-40s float  lanes %2d: max rel. diff from the double call %.1e (single-state "
+                  "float call: %.1e)\n",
+                  label.c_str(), c.name.c_str(), L, worst_batched, worst_single);
+    } else {
+      std::printf("[ batch ] %-16s %-40s double lanes %2d: max rel. diff from the single-state call %.1e\n",
+                  label.c_str(), c.name.c_str(), L, worst);
+    }
   }
 }
 

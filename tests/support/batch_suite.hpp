@@ -18,7 +18,14 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <string>
 #include <thread>
+#include <type_traits>
+#include <vector>
 
 namespace {
 
@@ -162,6 +169,103 @@ TEST(Batch, EveryMethodWithRowMajorAndNonDirectInputsAndOutputs) {
   check("frame_jacobian", 6, n * B, [&](const auto& q, const auto&, const auto&, auto&& out) {
     batch.frame_jacobian(q, 1, ReferenceFrame::World, out);
   });
+}
+
+// The sine and cosine of the lanes (batch.hpp's `sincos_lanes`) against the C library in long double, in spacings
+// of S at the reference value: float lanes are computed in float (sincos.hpp's `sincos_reduce_float`), double lanes
+// in double. Lanes with |x| beyond the fast kernel's limit, Inf and NaN take the one-by-one path (in double, as
+// the single-state calls): they give the single-state values, and the other lanes of their register keep the bits
+// they have without them.
+template <class S>
+double lane_ulps(S value, long double reference) {
+  constexpr int digits = std::numeric_limits<S>::digits;
+  const long double spacing = std::ldexp(
+      1.0L, std::max(std::ilogb(static_cast<S>(reference)), std::numeric_limits<S>::min_exponent - 1) - (digits - 1));
+  return static_cast<double>(std::fabs(static_cast<long double>(value) - reference) / spacing);
+}
+
+template <class S>
+void check_sincos_lanes(double range, double max_ulps, unsigned seed) {
+  using L = Lanes<S>;
+  constexpr std::size_t n = L::size;
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-range, range);
+  alignas(L::arch_type::alignment()) S x[n], s[n], c[n];
+  double worst = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    for (std::size_t l = 0; l < n; ++l) x[l] = static_cast<S>(u(rng));
+    L sl, cl;
+    detail::SincosTraits<L>::sincos(L::load_aligned(x), sl, cl);
+    sl.store_aligned(s);
+    cl.store_aligned(c);
+    for (std::size_t l = 0; l < n; ++l) {
+      const long double xl = x[l];
+      worst = std::max({worst, lane_ulps(s[l], std::sin(xl)), lane_ulps(c[l], std::cos(xl))});
+    }
+  }
+  ::testing::Test::RecordProperty(std::string(sizeof(S) == 4 ? "float" : "double") + "_worst_ulps_" +
+                                      std::to_string(static_cast<int>(range)),
+                                  std::to_string(worst));
+  EXPECT_LE(worst, max_ulps) << (sizeof(S) == 4 ? "float" : "double") << " lanes, range ±" << range;
+}
+
+TEST(Batch, SineAndCosineOfTheLanes) {
+  check_sincos_lanes<float>(4.0, 2.0, 1);
+  check_sincos_lanes<float>(4000.0, 2.0, 2);
+  check_sincos_lanes<double>(4.0, 1.5, 3);
+  check_sincos_lanes<double>(99999.0, 2.5, 4);
+}
+
+template <class S>
+void check_sincos_special_lanes() {
+  using L = Lanes<S>;
+  constexpr std::size_t n = L::size;
+  const S pi = static_cast<S>(3.14159265358979323846);
+  // Quadrant boundaries, tiny and huge values, the limits of the fast kernels, Inf and NaN, a register at a time.
+  const std::vector<S> values = {S(0), pi / 4, pi / 2, 3 * pi / 4, pi, -pi / 2, -pi, 2 * pi, S(1e-30), S(-1e-30),
+                                 S(4095.5), S(4096), S(-4096.5), S(1e5), S(-2.5e7), S(1e30),
+                                 std::numeric_limits<S>::infinity(), std::numeric_limits<S>::quiet_NaN()};
+  alignas(L::arch_type::alignment()) S x[n], s[n], c[n], s_alone[n], c_alone[n];
+  for (std::size_t v = 0; v < values.size(); ++v) {
+    // lane v % n holds the special value, the others ordinary angles
+    for (std::size_t l = 0; l < n; ++l) x[l] = S(0.25) * static_cast<S>(l + 1);
+    const std::size_t lane = v % n;
+    L sl, cl;
+    detail::SincosTraits<L>::sincos(L::load_aligned(x), sl, cl);
+    sl.store_aligned(s_alone);
+    cl.store_aligned(c_alone);
+    x[lane] = values[v];
+    detail::SincosTraits<L>::sincos(L::load_aligned(x), sl, cl);
+    sl.store_aligned(s);
+    cl.store_aligned(c);
+    for (std::size_t l = 0; l < n; ++l) {
+      if (l == lane) continue;
+      EXPECT_EQ(s[l], s_alone[l]) << "lane " << l << " beside " << values[v];
+      EXPECT_EQ(c[l], c_alone[l]) << "lane " << l << " beside " << values[v];
+    }
+    if (std::isfinite(values[v])) {
+      // the single-state calls' value within two spacings of S (for the angles beyond the fast kernels' limits,
+      // the very value: both go through the same double computation)
+      std::vector<S> q1 = {values[v]}, s1(1), c1(1);
+      detail::sincos_all<S>(q1, c1, s1, 1);
+      const long double xl = values[v];
+      EXPECT_LE(lane_ulps(s[lane], std::sin(xl)), 2.0) << "sin " << values[v];
+      EXPECT_LE(lane_ulps(c[lane], std::cos(xl)), 2.0) << "cos " << values[v];
+      const double limit = std::is_same_v<S, float> ? double(detail::kSincosFloatFastLimit) : detail::kSincosFastLimit;
+      if (!(std::abs(static_cast<double>(values[v])) < limit)) {
+        EXPECT_EQ(s[lane], s1[0]) << values[v];
+        EXPECT_EQ(c[lane], c1[0]) << values[v];
+      }
+    } else {
+      EXPECT_TRUE(std::isnan(s[lane])) << values[v];
+      EXPECT_TRUE(std::isnan(c[lane])) << values[v];
+    }
+  }
+}
+
+TEST(Batch, SineAndCosineOfSpecialValuesStayInTheirLanes) {
+  check_sincos_special_lanes<float>();
+  check_sincos_special_lanes<double>();
 }
 
 }  // namespace
