@@ -88,12 +88,26 @@ template <class S>
 using Lanes = xsimd::batch<S>;
 
 namespace detail {
+/// `sincos_lanes`' rare path, out of line (inlined, it made the callers' code larger and slower): the entries of
+/// entries x[l], l < n ≤ kMaxLanes, with |x[l]| ≥ limit, Inf or NaN get the single-state calls' sine and cosine
+/// (`sincos_all`).
+inline constexpr int kMaxLanes = 64;  // more than any register holds (16 floats with AVX-512)
+template <class T>
+[[gnu::cold, gnu::noinline]] void sincos_slow_lanes(const T* x, T limit, T* s, T* c, int n) {
+  T s1[kMaxLanes], c1[kMaxLanes];
+  sincos_all<T>(x, c1, s1, n);
+  for (int l = 0; l < n; ++l)
+    if (!(std::abs(x[l]) < limit)) {
+      s[l] = s1[l];
+      c[l] = c1[l];
+    }
+}
+
 /// sin and cos of the lanes, every operation lane-wise (xsimd's own sin and cos pick their argument reduction by
 /// testing all lanes, so a lane's result would depend on the other states of its group): sincos.hpp's kernels on
 /// the batch, `sincos_reduce` for double lanes and `sincos_reduce_float` for float lanes (float throughout), then
-/// `sincos_quadrant`. Lanes beyond the kernel's limit (kSincosFastLimit, kSincosFloatFastLimit), Inf or NaN are
-/// redone one by one in double as the single-state calls compute them: sincos_reduced below 1e5, else std::sin
-/// and std::cos (rounded to float for float lanes).
+/// `sincos_quadrant`. Lanes beyond the kernel's limit (kSincosFastLimit, kSincosFloatFastLimit), Inf or NaN take
+/// the single-state calls' values (`sincos_all` on the register's lanes: in double, rounded to float for float lanes).
 template <class T, class A>
 SPATIAL_INLINE void sincos_lanes(const xsimd::batch<T, A>& x, xsimd::batch<T, A>& s, xsimd::batch<T, A>& c) {
   constexpr bool is_float = std::is_same_v<T, float>;
@@ -115,19 +129,8 @@ SPATIAL_INLINE void sincos_lanes(const xsimd::batch<T, A>& x, xsimd::batch<T, A>
     x.store_aligned(xs);
     s.store_aligned(ss);
     c.store_aligned(cs);
-    for (std::size_t l = 0; l < n; ++l)
-      if (!(std::abs(xs[l]) < limit)) {
-        const double xd = static_cast<double>(xs[l]);
-        double sd, cd;
-        if (std::abs(xd) < kSincosFastLimit) {
-          sincos_reduced(xd, sd, cd);
-        } else {
-          sd = std::sin(xd);
-          cd = std::cos(xd);
-        }
-        ss[l] = static_cast<T>(sd);
-        cs[l] = static_cast<T>(cd);
-      }
+    static_assert(n <= kMaxLanes, "sincos_slow_lanes: more lanes than kMaxLanes");
+    sincos_slow_lanes(xs, limit, ss, cs, static_cast<int>(n));
     s = B::load_aligned(ss);
     c = B::load_aligned(cs);
   }

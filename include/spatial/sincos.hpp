@@ -64,8 +64,8 @@ SPATIAL_INLINE void sincos_reduce(const T& x, T& t, T& sr, T& cr) {
 /// `sincos_reduce` in float arithmetic throughout, for batches of floats (batch.hpp's float lanes; T = a batch):
 /// k by the 1.5·2²³ rounding trick, a four-part Cody–Waite reduction by π/2 whose first three parts have 8, 12 and
 /// 12 significant bits (so that k·p1, k·p2 and k·p3 are exact for |k| < 2¹², which |x| < kSincosFloatFastLimit
-/// ensures; the fourth keeps the relative accuracy of r when x is close to a multiple of π/2), and minimax polynomials of degrees 7 (sine) and 8 (cosine) on [−π/4, π/4] (the coefficients of Cephes' sinf and
-/// cosf). Within two float spacings of the correctly rounded sine and cosine for joint angles (tests/support/
+/// ensures; the fourth keeps the relative accuracy of r when x is close to a multiple of π/2), and minimax
+/// polynomials of degrees 7 (sine) and 8 (cosine) on [−π/4, π/4] (the coefficients of Cephes' sinf and cosf). Within two float spacings of the correctly rounded sine and cosine for joint angles (tests/support/
 /// batch_suite.hpp measures it); the quadrant fix-up is `sincos_quadrant<32>` on the bits of t.
 template <class T>
 SPATIAL_INLINE void sincos_reduce_float(const T& x, T& t, T& sr, T& cr) {
@@ -84,7 +84,7 @@ SPATIAL_INLINE void sincos_reduce_float(const T& x, T& t, T& sr, T& cr) {
        z * z * (T(4.166664568298827e-2f) + z * (T(-1.388731625493765e-3f) + z * T(2.443315711809948e-5f)));
 }
 
-/// |x| below which `sincos_reduce_float` applies (k·p2 exact); other lanes take the double kernel.
+/// |x| below which `sincos_reduce_float` applies (k·p2 and k·p3 exact); other lanes take the double kernel.
 inline constexpr float kSincosFloatFastLimit = 4096.0f;
 
 /// The quadrant fix-up on the bit patterns (U = std::uint64_t or a batch of them, or with Bits = 32 a batch of
