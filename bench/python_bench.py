@@ -13,13 +13,15 @@
     Time per call = median over repeats of the CPU time of a timeit loop (the C++ figures are CPU times too); the
     wall time is recorded beside it.
 (b) Batches of 1e4 and 1e6 states (q within the URDF limits, v, q̈, τ uniform in [−1, 1]; (B, n) C-contiguous
-    float64 arrays): `spatial.rnea` and `spatial.aba` batch calls with threads=1 and threads=0 (all cores), against a
+    float64 arrays): `spatial.rnea` and `spatial.aba` batch calls with threads=1 and threads=0 (all cores), the same
+    on SIMD lanes (`spatial.Batch(m, threads).rnea` / `.aba`, C++ batch.hpp, its pool of threads started once), against a
     Python loop over `pin.rnea` / `pin.aba` (and over `spatial.rnea`) — measured on 1e4 states and extrapolated to 1e6
     (the per-state time of a loop does not depend on the batch size; the JSON marks these rows `extrapolated`) — and
     against Pinocchio's own batch API, `pin.rneaInParallel` / `pin.abaInParallel` with a `pin.ModelPool` (states as
     columns: the transposes of the same arrays, F-contiguous, which it reads without a copy), when the installed pin
     has it ("not available" otherwise). Throughput = states per second of wall time (the median over repeats).
     Checks on the way (in the JSON): threads=0 gives the same numbers as threads=1, a batch row the same as one call,
+    spatial.Batch's rows within a few ulps of the functions' (relative to each state's largest |τ|),
     ABA inverts RNEA, and Pinocchio's batch matches its loop. On the smaller batch, one thread: the `Dyn` flag sets
     QuasiStatic and Static of `spatial.rnea`, `spatial.gravity` and `spatial.aba` with Static (what leaving terms out
     saves).
@@ -358,13 +360,19 @@ def main():
               flush=True)
 
     loop_per_state = {}
+    # spatial.Batch: the same states on SIMD lanes (C++ batch.hpp), its thread pool started once, here
+    lanes = {th: spatial.Batch(stance, threads=th) for th in (1, 0)}
     for size in sizes:
         Q, V, A, T = random_states(rng, lower, upper, n, size)
         benv = {"spatial": spatial, "m": stance, "Q": Q, "V": V, "A": A, "T": T,
-                "spatial_rnea_loop": spatial_rnea_loop}
+                "spatial_rnea_loop": spatial_rnea_loop, "b1": lanes[1], "b0": lanes[0]}
         kw = {"repeats": 3, "number": 1} if size >= big else {"repeats": batch_repeats, "min_time": batch_min_time}
         for call, stmt in (("spatial.rnea", "spatial.rnea(m, Q, V, A, threads={th})"),
                            ("spatial.aba", "spatial.aba(m, Q, V, T, threads={th})")):
+            for th in (1, 0):
+                add(size, "spatial", call, th, measure(stmt.format(th=th), benv, **kw))
+        for call, stmt in (("spatial.Batch(m).rnea", "b{th}.rnea(Q, V, A)"),
+                           ("spatial.Batch(m).aba", "b{th}.aba(Q, V, T)")):
             for th in (1, 0):
                 add(size, "spatial", call, th, measure(stmt.format(th=th), benv, **kw))
         if size == sizes[0]:  # the terms of the dynamics (spatial.Dyn) on one thread: what leaving terms out saves
@@ -386,6 +394,10 @@ def main():
             k = min(size, 16)
             single = np.array([spatial.rnea(stance, Q[i], V[i], A[i]) for i in range(k)])
             checks["rnea_batch_row_vs_one_call_max_abs_diff"] = float(np.abs(single - r1[:k]).max())
+            rl = lanes[1].rnea(Q, V, A)
+            checks["batch_lanes_rnea_max_rel_diff_from_rnea"] = float(
+                np.max(np.abs(rl - r1).max(axis=1) / np.maximum(1.0, np.abs(r1).max(axis=1))))
+            checks["batch_lanes_threads0_equals_threads1"] = bool(np.array_equal(lanes[0].rnea(Q, V, A), rl))
             back = np.asarray(spatial.aba(stance, Q, V, r1))
             checks["aba_of_rnea_max_abs_error_qdd"] = float(np.abs(back - A).max())
         # Python loops: measured at loop_size states, extrapolated beyond

@@ -8,6 +8,7 @@ The C++ library (header-only, Featherstone's spatial vector algebra) behind NumP
     tau = spatial.rnea(model, q, np.zeros(model.nv), np.zeros(model.nv))
     Q = np.stack([spatial.random_configuration(model, seed=k) for k in range(1000)])
     G = spatial.gravity(model, Q, threads=0)          # (1000, nv), all cores, without the GIL
+    G = spatial.Batch(model).gravity(Q)               # the same on SIMD lanes: ~2x the states per second
 
 Every algorithm takes one state ((n,) arrays) or a batch ((B, n) arrays; an argument given as (n,) is shared by the
 whole batch) and returns fresh float64 arrays. Conventions (frames, orders) are those of the C++ library and of
@@ -24,6 +25,7 @@ from typing import List, Mapping, Optional, Sequence, Tuple, Union
 import numpy as _np
 
 from ._spatial import (  # noqa: F401  (re-exported)
+    Batch,
     Contact,
     Contact3D,
     Contact6D,
@@ -77,7 +79,7 @@ from ._spatial import (  # noqa: F401  (re-exported)
 from . import _spatial
 
 __all__ = [
-    "Data", "Dyn", "Model", "ModelError", "aba", "aba_derivatives", "bias", "center_of_mass", "centroidal_momentum",
+    "Batch", "Data", "Dyn", "Model", "ModelError", "aba", "aba_derivatives", "bias", "center_of_mass", "centroidal_momentum",
     "centroidal_momentum_matrix", "centroidal_momentum_time_variation", "com_jacobian", "crba", "difference",
     "forward_dynamics", "frame_acceleration", "frame_classical_acceleration", "frame_jacobian",
     "frame_jacobian_time_variation", "frame_placement", "frame_velocity", "gravity", "hoap3_double_pendulum",

@@ -7,6 +7,8 @@
 #include "engine.hpp"
 #include "contacts_impl.hpp"
 
+#include <spatial/batch.hpp>
+
 #include <algorithm>
 #include <thread>
 #include <type_traits>
@@ -129,6 +131,36 @@ class IkEngine final : public IkBase {
   int nq_;
 };
 
+/// batch.hpp's `Batch<double, Tree>` behind BatchBase (engine.hpp): NumPy's row-major (count, nv) arrays are the
+/// column-major nv × count matrices Batch takes, one column per state, so they are passed as maps, without a copy.
+template <class Tree>
+class BatchEngine final : public BatchBase {
+ public:
+  BatchEngine(const Model<double, Tree>& model, int threads) : batch_(model, threads), nv_(model.size()) {}
+  int lanes() const override { return spatial::Batch<double, Tree>::lanes; }
+  int threads() const override { return batch_.threads(); }
+  void run(Op op, std::ptrdiff_t count, const double* const* in, double* out) override {
+    using Cols = Eigen::Map<const Eigen::MatrixXd>;
+    const auto n = static_cast<Eigen::Index>(count);
+    const auto arg = [&](int k) { return Cols(in[k], nv_, n); };
+    Eigen::Map<Eigen::MatrixXd> y(out, nv_, op == Op::Crba ? nv_ * n : n);
+    switch (op) {
+      case Op::Rnea: return batch_.rnea(arg(0), arg(1), arg(2), y);
+      case Op::Gravity: return batch_.gravity(arg(0), y);
+      case Op::Bias: return batch_.bias(arg(0), arg(1), y);
+      case Op::Aba: return batch_.aba(arg(0), arg(1), arg(2), y);
+      case Op::ForwardDynamics: return batch_.forward_dynamics_crba(arg(0), arg(1), arg(2), y);
+      case Op::Crba: return batch_.crba(arg(0), y);  // H symmetric: its row-major blocks are its column-major ones
+      default: break;
+    }
+    throw std::invalid_argument("Batch: rnea, gravity, bias, aba, forward_dynamics and crba only");
+  }
+
+ private:
+  spatial::Batch<double, Tree> batch_;
+  Eigen::Index nv_;
+};
+
 template <class M>
 struct TreeOf;
 template <class S, class T>
@@ -224,6 +256,15 @@ class Engine final : public ModelBase {
   }
   std::unique_ptr<ContactsBase> make_contacts(const std::vector<ContactSpec>& specs, double damping) const override {
     return make_contacts_for<M>(model_, specs, damping);
+  }
+  std::unique_ptr<BatchBase> make_batch(int threads) const override {
+    if constexpr (kFloating) {
+      (void)threads;
+      throw ModelError(name + ": Batch works on fixed-base models (the batched algorithms do not cover a floating "
+                       "base yet); use the functions (spatial.rnea(model, Q, V, A, threads=...)) on this one");
+    } else {
+      return std::make_unique<BatchEngine<Tree>>(model_, threads);
+    }
   }
 
   void run(const Call& c, Workspace& ws, int threads) const override {

@@ -14,6 +14,8 @@ void bind_contacts(nb::module_& m);
 void bind_ik(nb::module_& m);
 /// bind_walking.cpp: the walking pattern generator and its closed-loop simulation.
 void bind_walking(nb::module_& m);
+/// bind_batch.cpp: many states per call on SIMD lanes (spatial.Batch).
+void bind_batch(nb::module_& m);
 }  // namespace spatial::python
 
 using namespace spatial::python;
@@ -528,4 +530,5 @@ NB_MODULE(_spatial, m) {
   spatial::python::bind_ik(m);
   spatial::python::bind_walking(m);
   spatial::python::bind_contacts(m);
+  spatial::python::bind_batch(m);
 }
