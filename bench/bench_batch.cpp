@@ -18,7 +18,13 @@
 // the program aborts on a mismatch: ≤ 1e-12 relative in double, ≤ 1e-4 in float, 1e-3 for q̈ of CRBA + LTDL in
 // float, which carries H's conditioning (‖·‖∞ of each state's result, peers/peer_check.hpp; one line per algorithm,
 // model and scalar with the largest difference). They are not bit-identical: batch.hpp says why.
+//
+// The floating base (FloatingBatch) on floating27, the compile-time tree, double and float, B = 1024: RNEA, CRBA and
+// ABA on every thread count, GravityTorques and FD_CRBA_LTDL on one thread; the states are bench_floating's 256
+// (bench_floating.hpp: root anywhere in a 1 m box, any orientation), repeated; checked as above against the
+// single-state calls on the run-time twin before timing.
 #include "bench_common.hpp"
+#include "bench_floating.hpp"
 #include "peers/peer_check.hpp"
 
 #include <spatial/batch.hpp>
@@ -138,9 +144,10 @@ void check(Batch<S, TreeT>& batch, const States<S>& x, int frame, Checks& c) {
 
 /// Registers one batched call: `call(batch, states, B, outputs)` timed, outputs (rows × cols_per_state·B) allocated
 /// and touched before the timed loop.
-template <class S, class TreeT, class Call>
-void register_batch(const std::string& name, const std::shared_ptr<Batch<S, TreeT>>& batch,
-                    const std::shared_ptr<const States<S>>& x, int B, int rows, int cols_per_state, Call call) {
+template <class BatchT, class X, class Call>
+void register_batch(const std::string& name, const std::shared_ptr<BatchT>& batch, const std::shared_ptr<const X>& x,
+                    int B, int rows, int cols_per_state, Call call) {
+  using S = typename BatchT::Scalar;
   benchmark::RegisterBenchmark(name.c_str(), [batch, x, B, rows, cols_per_state, call](benchmark::State& st) {
     Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic> out =
         Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>::Zero(rows, Eigen::Index(cols_per_state) * B);
@@ -220,6 +227,74 @@ void register_scalar(const BenchModel<TreeT>& entry) {
   checks.report();
 }
 
+/// floating27's batched algorithms in scalar S (see the file comment).
+template <class S>
+void register_floating() {
+  using M = Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>;
+  using FB = FloatingBatch<S, Floating27Tree>;
+  struct FloatingStates {
+    M q, v, u;
+  };
+  const FloatingModel<S, Floating27Tree> model = floating27().template cast<S>();
+  const FloatingModel<S> runtime = model.to_runtime();
+  const FloatingPool<double>& pool = floating_pool();
+  const int nq = model.nq(), nv = model.nv(), B = kSizes[0];
+  auto x = std::make_shared<FloatingStates>();
+  x->q.resize(nq, B), x->v.resize(nv, B), x->u.resize(nv, B);
+  for (int k = 0; k < B; ++k) {
+    const auto s = static_cast<std::size_t>(k % pool.size());
+    x->q.col(k) = pool.q[s].template cast<S>();
+    x->v.col(k) = pool.v[s].template cast<S>();
+    x->u.col(k) = pool.u[s].template cast<S>();
+  }
+  const bool dbl = std::is_same_v<S, double>;
+  const std::string on = std::string(" (") + scalar_name<S>() + ", all thread counts) on floating27";
+  peers::PeerCheck tau{"RNEA_batch tau" + on, dbl ? 1e-12 : 1e-4}, grav{"GravityTorques_batch" + on, dbl ? 1e-12 : 1e-4},
+      H{"CRBA_batch H" + on, dbl ? 1e-12 : 1e-4}, fd{"FD_CRBA_LTDL_batch qdd" + on, dbl ? 1e-12 : 1e-3},
+      qdd{"ABA_batch qdd" + on, dbl ? 1e-12 : 1e-4};
+  FloatingData<S> data(runtime);
+  for (const int threads : thread_counts()) {
+    auto batch = std::make_shared<FB>(model, threads);
+    for (const int b : {kChecked, 3 * FB::lanes + 1}) {
+      M t(nv, b), g(nv, b), h(nv, nv * b), f(nv, b), a(nv, b);
+      batch->rnea(x->q.leftCols(b), x->v.leftCols(b), x->u.leftCols(b), t);
+      batch->gravity(x->q.leftCols(b), g);
+      batch->crba(x->q.leftCols(b), h);
+      batch->forward_dynamics_crba(x->q.leftCols(b), x->v.leftCols(b), x->u.leftCols(b), f);
+      batch->aba(x->q.leftCols(b), x->v.leftCols(b), x->u.leftCols(b), a);
+      for (int k = 0; k < b; ++k) {
+        tau.compare(t.col(k), rnea(runtime, data, x->q.col(k), x->v.col(k), x->u.col(k)));
+        grav.compare(g.col(k), gravity_torques(runtime, data, x->q.col(k)));
+        H.compare(h.middleCols(k * nv, nv), crba(runtime, data, x->q.col(k)));
+        fd.compare(f.col(k), forward_dynamics_crba(runtime, data, x->q.col(k), x->v.col(k), x->u.col(k)));
+        qdd.compare(a.col(k), aba(runtime, data, x->q.col(k), x->v.col(k), x->u.col(k)));
+      }
+    }
+    const auto name = [&](const char* algorithm) {
+      return bench_name("spatial", std::string(algorithm) + "_batch", "floating27", scalar_name<S>(), "static") +
+             "/batch:" + std::to_string(B) + "/threads:" + std::to_string(threads);
+    };
+    using X = FloatingStates;
+    register_batch(name("RNEA"), batch, std::shared_ptr<const X>(x), B, nv, 1, [](FB& b, const X& s, int m, M& out) {
+      b.rnea(s.q.leftCols(m), s.v.leftCols(m), s.u.leftCols(m), out);
+    });
+    register_batch(name("CRBA"), batch, std::shared_ptr<const X>(x), B, nv, nv, [](FB& b, const X& s, int m, M& out) {
+      b.crba(s.q.leftCols(m), out);
+    });
+    register_batch(name("ABA"), batch, std::shared_ptr<const X>(x), B, nv, 1, [](FB& b, const X& s, int m, M& out) {
+      b.aba(s.q.leftCols(m), s.v.leftCols(m), s.u.leftCols(m), out);
+    });
+    if (threads != 1) continue;
+    register_batch(name("GravityTorques"), batch, std::shared_ptr<const X>(x), B, nv, 1,
+                   [](FB& b, const X& s, int m, M& out) { b.gravity(s.q.leftCols(m), out); });
+    register_batch(name("FD_CRBA_LTDL"), batch, std::shared_ptr<const X>(x), B, nv, 1,
+                   [](FB& b, const X& s, int m, M& out) {
+                     b.forward_dynamics_crba(s.q.leftCols(m), s.v.leftCols(m), s.u.leftCols(m), out);
+                   });
+  }
+  for (const peers::PeerCheck* c : {&tau, &grav, &H, &fd, &qdd}) c->report();
+}
+
 const bool registered = [] {
   add_build_context();
   benchmark::AddCustomContext("spatial_batch_lanes_double", std::to_string(Batch<double, DynamicTree>::lanes));
@@ -232,6 +307,8 @@ const bool registered = [] {
       register_scalar<float>(entry);
     }
   });
+  register_floating<double>();
+  register_floating<float>();
   return true;
 }();
 

@@ -287,32 +287,41 @@ inline void check_batch_shape(const Eigen::MatrixBase<X>& x, long long rows, lon
 }
 }  // namespace detail
 
-/// The batched algorithms of one fixed-base model (see the file comment). Arguments are matrices with one column per
-/// state (nv × B; any Eigen dense expression of scalar S, e.g. a `Map` of a row-major B × nv array transposed);
-/// outputs are written through `const MatrixBase&` (Eigen's convention, so blocks and maps can be passed) and must
-/// have their size already. B = the number of columns of the first argument (≥ 0).
-template <class S, class TreeT = DynamicTree>
-class Batch {
+/// The batched algorithms of one model (see the file comment): `Batch<S, Tree>` for a fixed base (`Model<S, Tree>`),
+/// `FloatingBatch<S, Tree>` for a floating base (`FloatingModel<S, Tree>`: q has nq = nv + 1 rows, the free-flyer's
+/// seven first, and the results are those of floating.hpp's overloads: nv rows, τ's first six the root's wrench).
+/// Arguments are matrices with one column per state (nq × B for q, nv × B for the others; any Eigen dense
+/// expression of scalar S, e.g. a `Map` of a row-major B × nv array transposed); outputs are written through
+/// `const MatrixBase&` (Eigen's convention, so blocks and maps can be passed) and must have their size already.
+/// B = the number of columns of the first argument (≥ 0).
+template <class S, class TreeT, bool Floating>
+class BasicBatch {
  public:
   using Scalar = S;
   using Pack = Lanes<S>;
-  using LaneModel = Model<Pack, TreeT>;
-  using LaneData = Data<Pack, TreeT>;
+  static constexpr bool floating = Floating;
+  /// The model it is built from, and the same in lane form.
+  using SourceModel = std::conditional_t<Floating, FloatingModel<S, TreeT>, Model<S, TreeT>>;
+  using LaneModel = std::conditional_t<Floating, FloatingModel<Pack, TreeT>, Model<Pack, TreeT>>;
+  using LaneData = typename detail::ModelTraits<LaneModel>::DataType;
   /// States per SIMD register (per call of the underlying algorithm).
   static constexpr int lanes = static_cast<int>(Pack::size);
 
   /// Copies the model into lane form and allocates one workspace per thread (threads ≤ 0: all hardware threads).
-  explicit Batch(const Model<S, TreeT>& model, int threads = 1)
-      : model_(model.template cast<Pack>()), nv_(model.size()) {
+  explicit BasicBatch(const SourceModel& model, int threads = 1)
+      : model_(model.template cast<Pack>()), nv_(Traits::nv(model_)), nq_(Traits::nq(model_)) {
     if (threads <= 0) threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
     work_.reserve(static_cast<std::size_t>(threads));
-    for (int t = 0; t < threads; ++t) work_.emplace_back(model_, nv_);
+    for (int t = 0; t < threads; ++t) work_.emplace_back(model_, nq_, nv_);
     pool_ = std::make_unique<detail::WorkerPool>(threads);
-    // The non-zero pattern of H: (i, j) with j = i or j an ancestor of i, both triangles, column by column.
+    // The non-zero pattern of H: (i, j) with j = i or j an ancestor of i, both triangles, column by column (a
+    // floating base's six rows and columns: all of them).
+    const auto& tree = detail::ModelTraits<SourceModel>::tree(model);
+    constexpr int off = Traits::voff;
     for (int c = 0; c < nv_; ++c)
       for (int r = 0; r < nv_; ++r) {
-        bool related = false;
-        for (int a = std::max(r, c); a >= 0 && !related; a = model.parent(a)) related = a == std::min(r, c);
+        bool related = r < off || c < off;
+        for (int a = std::max(r, c) - off; a >= 0 && !related; a = tree.parent(a)) related = a == std::min(r, c) - off;
         if (related) {
           h_rows_.push_back(r);
           h_cols_.push_back(c);
@@ -321,6 +330,7 @@ class Batch {
   }
 
   int nv() const { return nv_; }
+  int nq() const { return nq_; }
   int threads() const { return pool_->size(); }
   const LaneModel& lane_model() const { return model_; }
 
@@ -368,7 +378,7 @@ class Batch {
   /// H(q) per state, both triangles: `H` is nv × (nv·B), state j's matrix in columns j·nv … j·nv + nv − 1.
   template <class Q, class Out>
   void crba(const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<Out>& H) {
-    detail::check_batch_shape(q, nv_, q.cols(), "crba", "q");
+    detail::check_batch_shape(q, nq_, q.cols(), "crba", "q");
     detail::check_batch_shape(H, nv_, static_cast<long long>(nv_) * q.cols(), "crba", "H");
     auto& y = const_cast<Eigen::MatrixBase<Out>&>(H);
     each(q.cols(), [&](Work& w, int j0, int m) {
@@ -392,7 +402,8 @@ class Batch {
   /// `frame_pose(model, data, frame).matrix().topRows(3)` after `forward_kinematics`.
   template <class Q, class Out>
   void frame_placement(const Eigen::MatrixBase<Q>& q, int frame, const Eigen::MatrixBase<Out>& T) {
-    detail::check_batch_shape(q, nv_, q.cols(), "frame_placement", "q");
+    static_assert(!Floating, "Batch::frame_placement: fixed-base models only (not batched yet on a floating base)");
+    detail::check_batch_shape(q, nq_, q.cols(), "frame_placement", "q");
     detail::check_batch_shape(T, 3, 4 * q.cols(), "frame_placement", "T");
     const FixedFrame<Pack>& fr = model_.frames()[static_cast<std::size_t>(frame)];
     each(q.cols(), [&](Work& w, int j0, int m) {
@@ -409,7 +420,8 @@ class Batch {
   /// columns j·nv … j·nv + nv − 1, rows linear first (the library's Jacobian convention, kinematics.hpp).
   template <class Q, class Out>
   void frame_jacobian(const Eigen::MatrixBase<Q>& q, int frame, ReferenceFrame rf, const Eigen::MatrixBase<Out>& J) {
-    detail::check_batch_shape(q, nv_, q.cols(), "frame_jacobian", "q");
+    static_assert(!Floating, "Batch::frame_jacobian: fixed-base models only (not batched yet on a floating base)");
+    detail::check_batch_shape(q, nq_, q.cols(), "frame_jacobian", "q");
     detail::check_batch_shape(J, 6, static_cast<long long>(nv_) * q.cols(), "frame_jacobian", "J");
     each(q.cols(), [&](Work& w, int j0, int m) {
       gather(w, j0, m, q);
@@ -419,23 +431,30 @@ class Batch {
   }
 
  private:
-  using VectorL = Eigen::Matrix<Pack, LaneModel::NB, 1>;
+  using Traits = detail::ModelTraits<LaneModel>;
+  static constexpr int kNV = Traits::NV;
+  static constexpr int kNQ = kNV == Eigen::Dynamic ? Eigen::Dynamic : kNV + Traits::qoff - Traits::voff;
+  using VectorL = Eigen::Matrix<Pack, kNV, 1>;
+  using VectorQ = Eigen::Matrix<Pack, kNQ, 1>;
   /// Values of S in one register's alignment: `staging` skips up to this many of w.tmp to align it.
   static constexpr std::size_t kStageSlack = Pack::arch_type::alignment() / sizeof(S);
-  using JacobianL = Eigen::Matrix<Pack, 6, LaneModel::NB>;
+  using JacobianL = Eigen::Matrix<Pack, 6, kNV>;
   struct Work {
     LaneData data;
-    VectorL q, v, a;
+    VectorQ q;
+    VectorL v, a;
     JacobianL J;
     std::vector<S> tmp;  ///< lane-major staging of the inputs (gather) and of a result (put)
-    Work(const LaneModel& m, int n)
-        : data(m), q(n), v(n), a(n), J(6, n),
+    Work(const LaneModel& m, int nq, int n)
+        : data(m), q(nq), v(n), a(n), J(6, n),
           tmp(static_cast<std::size_t>(std::max(n * n, 6 * n) + 12) * lanes + kStageSlack) {}
   };
 
+  /// The shapes of q (nq × B) and of the other arguments (nv × B).
   template <class X, class... Rest>
-  void check(const char* function, const Eigen::MatrixBase<X>& first, const char* name, const Rest&... rest) const {
-    check_each(function, first.cols(), first, name, rest...);
+  void check(const char* function, const Eigen::MatrixBase<X>& q, const char* name, const Rest&... rest) const {
+    detail::check_batch_shape(q, nq_, q.cols(), function, name);
+    check_each(function, q.cols(), rest...);
   }
   void check_each(const char*, Eigen::Index) const {}
   template <class X, class... Rest>
@@ -497,7 +516,7 @@ class Batch {
     const auto p = reinterpret_cast<std::uintptr_t>(w.tmp.data());
     return w.tmp.data() + ((align - p % align) % align) / sizeof(S);
   }
-  /// w.q, w.v, … = states j0 … j0 + m − 1 of x, y, … (at most three inputs). An input whose columns are
+  /// w.q, w.v, w.a = states j0 … j0 + m − 1 of x, y, z (one to three inputs). An input whose columns are
   /// contiguous in memory (`take_contiguous`) is read `lanes` rows of `lanes` states at a time and transposed in
   /// registers; the others are staged first and loaded after: filling a register's lanes with scalar stores and
   /// loading it right away stalls every row (the load overlaps stores still in flight, so the processor cannot
@@ -508,16 +527,34 @@ class Batch {
     static_assert(sizeof...(X) >= 1 && sizeof...(X) <= 3, "gather: one to three inputs");
     S* const t = staging(w);
     const std::size_t block = static_cast<std::size_t>(nv_) * lanes;
-    VectorL* const outs[3] = {&w.q, &w.v, &w.a};
     bool staged[3] = {false, false, false};
-    const auto take = [&](const auto& xk, std::size_t k) {
-      staged[k] = !take_contiguous(xk, j0, m, *outs[k]);
-      if (staged[k]) stage(xk, j0, m, t + block * k);
-    };
-    std::size_t k = 0;
-    (take(x, k++), ...);
-    for (std::size_t r = 0; r < sizeof...(X); ++r)
-      if (staged[r]) load(t + block * r, *outs[r]);
+    if constexpr (std::is_same_v<VectorQ, VectorL>) {  // fixed base: q has nv rows like the others
+      VectorL* const outs[3] = {&w.q, &w.v, &w.a};
+      const auto take = [&](const auto& xk, std::size_t k) {
+        staged[k] = !take_contiguous(xk, j0, m, *outs[k]);
+        if (staged[k]) stage(xk, j0, m, t + block * k);
+      };
+      std::size_t k = 0;
+      (take(x, k++), ...);
+      for (std::size_t r = 0; r < sizeof...(X); ++r)
+        if (staged[r]) load(t + block * r, *outs[r]);
+    } else {  // floating base: q's nq rows staged first, then nv rows per further input
+      const std::size_t qblock = static_cast<std::size_t>(nq_) * lanes;
+      const auto take = [&](const auto& xk, std::size_t k, auto& out) {
+        staged[k] = !take_contiguous(xk, j0, m, out);
+        if (staged[k]) stage(xk, j0, m, t + (k == 0 ? 0 : qblock + block * (k - 1)));
+      };
+      const auto take_all = [&](const auto& x0, const auto&... rest) {
+        take(x0, 0, w.q);
+        [[maybe_unused]] VectorL* const outs[2] = {&w.v, &w.a};  // (unused with q alone)
+        [[maybe_unused]] std::size_t k = 1;
+        ((take(rest, k, *outs[k - 1]), ++k), ...);
+      };
+      take_all(x...);
+      if (staged[0]) load(t, w.q);
+      for (std::size_t r = 1; r < sizeof...(X); ++r)
+        if (staged[r]) load(t + qblock + block * (r - 1), r == 1 ? w.v : w.a);
+    }
   }
   /// out = states j0 … j0 + m − 1 of x (the last repeated into the unused lanes) when x gives direct access to
   /// memory with contiguous columns (a plain matrix, a map, a block of rows of either) at least `lanes` rows long:
@@ -599,10 +636,17 @@ class Batch {
   }
 
   LaneModel model_;
-  int nv_;
+  int nv_, nq_;
   std::vector<int> h_rows_, h_cols_;  ///< the entries of H that CRBA writes (see `crba`)
   std::vector<Work> work_;
   std::unique_ptr<detail::WorkerPool> pool_;
 };
+
+/// The batched algorithms of a fixed-base model (`Model<S, TreeT>`).
+template <class S, class TreeT = DynamicTree>
+using Batch = BasicBatch<S, TreeT, false>;
+/// The batched algorithms of a floating-base model (`FloatingModel<S, TreeT>`).
+template <class S, class TreeT = DynamicTree>
+using FloatingBatch = BasicBatch<S, TreeT, true>;
 
 }  // namespace spatial

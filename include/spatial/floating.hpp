@@ -551,14 +551,54 @@ struct FreeFlyerColumns {
   }
 };
 
-/// ABA's root step (RBDA §9.5): a₀′ = Iᴬ₀⁻¹ (τ₀ − pᴬ₀) by a 6 × 6 Cholesky factorisation, kept in `data.a0`.
+/// Whether S's comparisons give a bool (double, float, automatic differentiation), rather than one per SIMD lane
+/// (batch.hpp's lanes), which Eigen's decompositions cannot branch on.
+template <class S>
+inline constexpr bool has_bool_comparisons_v =
+    std::is_same_v<decltype(std::declval<const S&>() < std::declval<const S&>()), bool>;
+
+/// x = A⁻¹ b for a symmetric positive definite 6 × 6 A, by A = L D Lᵀ (L unit lower triangular) without pivoting:
+/// the same operations whatever the values, so that it runs on SIMD lanes (each lane its own A and b).
+template <class S>
+Vector6<S> spd_solve6(const Matrix6<S>& A, const Vector6<S>& b) {
+  Matrix6<S> L;
+  Vector6<S> d, x;
+  for (int j = 0; j < 6; ++j) {
+    S dj = A(j, j);
+    for (int k = 0; k < j; ++k) dj -= L(j, k) * L(j, k) * d[k];
+    d[j] = dj;
+    const S inv = S(1) / dj;
+    for (int i = j + 1; i < 6; ++i) {
+      S lij = A(i, j);
+      for (int k = 0; k < j; ++k) lij -= L(i, k) * L(j, k) * d[k];
+      L(i, j) = lij * inv;
+    }
+  }
+  for (int i = 0; i < 6; ++i) {  // L y = b
+    S yi = b[i];
+    for (int k = 0; k < i; ++k) yi -= L(i, k) * x[k];
+    x[i] = yi;
+  }
+  for (int i = 0; i < 6; ++i) x[i] /= d[i];
+  for (int i = 5; i >= 0; --i) {  // Lᵀ x = D⁻¹ y
+    S xi = x[i];
+    for (int k = i + 1; k < 6; ++k) xi -= L(k, i) * x[k];
+    x[i] = xi;
+  }
+  return x;
+}
+
+/// ABA's root step (RBDA §9.5): a₀′ = Iᴬ₀⁻¹ (τ₀ − pᴬ₀) by a 6 × 6 Cholesky factorisation (Eigen's LLT; on SIMD
+/// lanes `spd_solve6`), kept in `data.a0`.
 template <class S, class T>
 struct RootSolve {
   FloatingData<S, T>* data = nullptr;
   Force<S> tau0 = Force<S>::Zero();
   Motion<S> operator()() const {
     const Force<S> rhs = tau0 - data->pA0;
-    const Vector6<S> a = data->IA0.matrix().llt().solve(rhs.vector());
+    Vector6<S> a;
+    if constexpr (has_bool_comparisons_v<S>) a = data->IA0.matrix().llt().solve(rhs.vector());
+    else a = spd_solve6<S>(data->IA0.matrix(), rhs.vector());
     data->a0 = Motion<S>(a.template head<3>(), a.template tail<3>());
     return data->a0;
   }

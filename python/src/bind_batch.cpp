@@ -1,6 +1,6 @@
 /// \file bind_batch.cpp
-/// Many states per call on SIMD lanes from Python: `spatial.Batch` (batch.hpp's `Batch<double, Tree>` through
-/// engine.hpp's BatchBase). The functions (`spatial.rnea(model, Q, ...)`) loop over the states with the
+/// Many states per call on SIMD lanes from Python: `spatial.Batch` (batch.hpp's `Batch<double, Tree>` or
+/// `FloatingBatch<double, Tree>` through engine.hpp's BatchBase). The functions (`spatial.rnea(model, Q, ...)`) loop over the states with the
 /// single-state code, so that a batch row equals the single call bit for bit; a Batch computes `lanes` states per
 /// instruction instead (about twice the states per second), to within a few units in the last place of them.
 
@@ -17,21 +17,23 @@ struct PyBatch {
   std::mutex lock;
 };
 
-/// Runs `op` on the arguments `xs` (each (nv,), shared by every state, or (B, nv)); returns (B, nv) or
-/// (B, nv, nv) for Crba, without the leading B when every argument is one state.
+/// Runs `op` on the arguments `xs` (q first; each (n,), shared by every state, or (B, n), n = nq for q, nv for the
+/// others); returns (B, nv) or (B, nv, nv) for Crba, without the leading B when every argument is one state.
 NDArray call(PyBatch& s, Op op, const char* fn, std::initializer_list<std::pair<nb::handle, const char*>> xs) {
   const int nv = s.model->nv;
   Array arrays[3];
+  int widths[3] = {s.model->nq, nv, nv};
   std::ptrdiff_t count = -1;
   std::size_t k = 0;
   for (const auto& [h, arg] : xs) {
     Array a = to_array(h, fn, arg);
-    const bool one = a.ndim() == 1 && a.shape(0) == std::size_t(nv);
-    const bool many = a.ndim() == 2 && a.shape(1) == std::size_t(nv);
+    const int n = widths[k];
+    const bool one = a.ndim() == 1 && a.shape(0) == std::size_t(n);
+    const bool many = a.ndim() == 2 && a.shape(1) == std::size_t(n);
     if (!one && !many) {
       std::ostringstream m;
       m << fn << ": argument '" << arg << "' has shape " << shape_str(a) << "; the model '" << s.model->name
-        << "' has nv = " << nv << ", so expected (" << nv << ",) or (B, " << nv << ")";
+        << "' has " << (k == 0 ? "nq" : "nv") << " = " << n << ", so expected (" << n << ",) or (B, " << n << ")";
       throw nb::value_error(m.str().c_str());
     }
     if (many) {
@@ -53,9 +55,9 @@ NDArray call(PyBatch& s, Op op, const char* fn, std::initializer_list<std::pair<
   for (std::size_t j = 0; j < k; ++j) {
     in[j] = arrays[j].data();
     if (batched && arrays[j].ndim() == 1) {
-      shared[j].resize(std::size_t(count) * std::size_t(nv));
-      for (std::ptrdiff_t b = 0; b < count; ++b)
-        std::copy(in[j], in[j] + nv, shared[j].begin() + b * nv);
+      const std::ptrdiff_t n = widths[j];
+      shared[j].resize(std::size_t(count) * std::size_t(n));
+      for (std::ptrdiff_t b = 0; b < count; ++b) std::copy(in[j], in[j] + n, shared[j].begin() + b * n);
       in[j] = shared[j].data();
     }
   }
@@ -80,7 +82,8 @@ void bind_batch(nb::module_& m) {
   nb::class_<PyBatch>(m, "Batch",
                       "Many states per call on SIMD lanes (C++ batch.hpp): each lane of a register one state, "
                       "lanes states per instruction, on a pool of `threads` threads started once (0: all cores). "
-                      "Fixed-base models. Arguments (nv,) (shared by every state) or (B, nv); results (B, nv), "
+                      "Fixed or floating base. Arguments (n,) (shared by every state) or (B, n), n = nq for q and "
+                      "nv for the others; results (B, nv), "
                       "crba (B, nv, nv). A state's result does not depend on B, on the threads or on the other "
                       "states (bit for bit; a NaN stays in its state); it is the single call's to within a few "
                       "units in the last place (another order of the same operations), where spatial.rnea(model, "
@@ -89,7 +92,7 @@ void bind_batch(nb::module_& m) {
            [](PyBatch* self, std::shared_ptr<ModelBase> model, int threads) {
              const int t = thread_count(threads);
              new (self) PyBatch();
-             self->batch = model->make_batch(t);  // ModelError (floating base) -> spatial.ModelError
+             self->batch = model->make_batch(t);
              self->model = std::move(model);
            },
            "model"_a, "threads"_a = 1)

@@ -137,8 +137,9 @@ class IkBase {
   virtual double residual(const double* q, double* r) = 0;
 };
 
-/// batch.hpp's `Batch<double, Tree>` of one fixed-base model, behind a model-independent interface (Python's
-/// `spatial.Batch`): many states per call on SIMD lanes, on a pool of threads of its own started once.
+/// batch.hpp's `Batch<double, Tree>` (fixed base) or `FloatingBatch<double, Tree>` of one model, behind a
+/// model-independent interface (Python's `spatial.Batch`): many states per call on SIMD lanes, on a pool of threads
+/// of its own started once.
 class BatchBase {
  public:
   virtual ~BatchBase() = default;
@@ -146,8 +147,9 @@ class BatchBase {
   virtual int lanes() const = 0;
   virtual int threads() const = 0;
   /// `op` (Rnea, Gravity, Bias, Aba, ForwardDynamics or Crba) on `count` states: in[k] the operation's k-th input
-  /// as `count` contiguous rows of nv (row-major (count, nv), as NumPy holds a C-contiguous array), out the output
-  /// row-major (count, nv), or (count, nv, nv) for Crba. Throws std::invalid_argument for another operation.
+  /// as `count` contiguous rows of nq (q, k = 0) or nv (row-major (count, n), as NumPy holds a C-contiguous array),
+  /// out the output row-major (count, nv), or (count, nv, nv) for Crba. Throws std::invalid_argument for another
+  /// operation.
   virtual void run(Op op, std::ptrdiff_t count, const double* const* in, double* out) = 0;
 };
 
@@ -178,7 +180,7 @@ class ModelBase {
                                             const std::vector<double>& positions, const double* q) const = 0;
   /// A contact set on this model (contacts.hpp, contacts_impl.hpp).
   virtual std::unique_ptr<ContactsBase> make_contacts(const std::vector<ContactSpec>& specs, double damping) const = 0;
-  /// The batched algorithms on this model with `threads` threads (≥ 1); throws ModelError for a floating base.
+  /// The batched algorithms on this model with `threads` threads (≥ 1).
   virtual std::unique_ptr<BatchBase> make_batch(int threads) const = 0;
 
   /// The model's own workspace, for calls made without `data=` (the lock guards it against two Python threads

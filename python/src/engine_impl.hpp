@@ -131,18 +131,21 @@ class IkEngine final : public IkBase {
   int nq_;
 };
 
-/// batch.hpp's `Batch<double, Tree>` behind BatchBase (engine.hpp): NumPy's row-major (count, nv) arrays are the
-/// column-major nv × count matrices Batch takes, one column per state, so they are passed as maps, without a copy.
-template <class Tree>
+/// batch.hpp's `Batch<double, Tree>` or `FloatingBatch<double, Tree>` behind BatchBase (engine.hpp): NumPy's
+/// row-major (count, nq) and (count, nv) arrays are the column-major nq × count and nv × count matrices the batch
+/// takes, one column per state, so they are passed as maps, without a copy.
+template <class Tree, bool Floating>
 class BatchEngine final : public BatchBase {
  public:
-  BatchEngine(const Model<double, Tree>& model, int threads) : batch_(model, threads), nv_(model.size()) {}
-  int lanes() const override { return spatial::Batch<double, Tree>::lanes; }
+  using BatchT = spatial::BasicBatch<double, Tree, Floating>;
+  BatchEngine(const typename BatchT::SourceModel& model, int threads)
+      : batch_(model, threads), nv_(batch_.nv()), nq_(batch_.nq()) {}
+  int lanes() const override { return BatchT::lanes; }
   int threads() const override { return batch_.threads(); }
   void run(Op op, std::ptrdiff_t count, const double* const* in, double* out) override {
     using Cols = Eigen::Map<const Eigen::MatrixXd>;
     const auto n = static_cast<Eigen::Index>(count);
-    const auto arg = [&](int k) { return Cols(in[k], nv_, n); };
+    const auto arg = [&](int k) { return Cols(in[k], k == 0 ? nq_ : nv_, n); };
     Eigen::Map<Eigen::MatrixXd> y(out, nv_, op == Op::Crba ? nv_ * n : n);
     switch (op) {
       case Op::Rnea: return batch_.rnea(arg(0), arg(1), arg(2), y);
@@ -157,8 +160,8 @@ class BatchEngine final : public BatchBase {
   }
 
  private:
-  spatial::Batch<double, Tree> batch_;
-  Eigen::Index nv_;
+  BatchT batch_;
+  Eigen::Index nv_, nq_;
 };
 
 template <class M>
@@ -258,13 +261,7 @@ class Engine final : public ModelBase {
     return make_contacts_for<M>(model_, specs, damping);
   }
   std::unique_ptr<BatchBase> make_batch(int threads) const override {
-    if constexpr (kFloating) {
-      (void)threads;
-      throw ModelError(name + ": Batch works on fixed-base models (the batched algorithms do not cover a floating "
-                       "base yet); use the functions (spatial.rnea(model, Q, V, A, threads=...)) on this one");
-    } else {
-      return std::make_unique<BatchEngine<Tree>>(model_, threads);
-    }
+    return std::make_unique<BatchEngine<Tree, kFloating>>(model_, threads);
   }
 
   void run(const Call& c, Workspace& ws, int threads) const override {

@@ -2,7 +2,9 @@
 // The batched algorithms (batch.hpp) against the single-state calls, shared by test_batch.cpp (the default x86-64
 // target: SSE2 lanes, 2 doubles / 4 floats; NEON on aarch64) and simd_batch.cpp (-mavx2 -mfma: 4 doubles / 8 floats).
 //
-// What is checked, per model, for double and float, for every B from 1 to 3 × lanes + 1, threads 1 and 2:
+// What is checked, per model (fixed base: Batch; floating base: FloatingBatch, whose q has nq = nv + 1 rows, the
+// quaternion of each random state normalised), for double and float, for every B from 1 to 3 × lanes + 1, threads 1
+// and 2:
 //  - in double, every batched result equals the single-state call on the same state: to 1e-13 relative to the
 //    result's largest entry (2e-12 for ABA and CRBA + LTDL, whose q̈ carries the conditioning of H);
 //  - in float, the batched results are as accurate as the single-state float calls: over all the states of a
@@ -64,104 +66,141 @@ bool same_bits(const Eigen::MatrixBase<A>& a, const Eigen::MatrixBase<B>& b) {
   return true;
 }
 
-/// One batched algorithm as a function of the state matrices: `run(batch, Q, V, A, Out)`, and its single-state
-/// twin `single(model, data, q, v, a) → result` (columns of Out per state: `width`).
+/// The batch, model and data types of a model type: Batch for `Model<S, T>`, FloatingBatch for `FloatingModel<S, T>`.
+template <class M>
+struct BatchTypes;
 template <class S, class T>
+struct BatchTypes<Model<S, T>> {
+  using BatchT = Batch<S, T>;
+  using DataT = Data<S, T>;
+};
+template <class S, class T>
+struct BatchTypes<FloatingModel<S, T>> {
+  using BatchT = FloatingBatch<S, T>;
+  using DataT = FloatingData<S, T>;
+};
+
+/// One batched algorithm as a function of the state matrices: `run(batch, Q, V, A, Out)`, and its single-state
+/// twin `single(model, data, q, v, a) → result` (columns of Out per state: `width`). MT: the model type.
+template <class MT>
 struct BatchCase {
+  using S = typename MT::Scalar;
+  using BatchT = typename BatchTypes<MT>::BatchT;
+  using DataT = typename BatchTypes<MT>::DataT;
   std::string name;
   int rows, width;  ///< the output is rows × (width · B)
   double tol_double;
   /// The output as a map with a run-time column stride: a plain matrix (each state's block contiguous: written
   /// through the lanes' transposition) or a block of rows of a larger matrix (written entry by entry).
-  std::function<void(Batch<S, T>&, const BatchMatrix<S>&, const BatchMatrix<S>&, const BatchMatrix<S>&,
+  std::function<void(BatchT&, const BatchMatrix<S>&, const BatchMatrix<S>&, const BatchMatrix<S>&,
                      Eigen::Ref<BatchMatrix<S>, 0, Eigen::OuterStride<>>)>
       run;
-  std::function<BatchMatrix<S>(const Model<S, T>&, Data<S, T>&, const Eigen::Matrix<S, Eigen::Dynamic, 1>&,
+  std::function<BatchMatrix<S>(const MT&, DataT&, const Eigen::Matrix<S, Eigen::Dynamic, 1>&,
                                const Eigen::Matrix<S, Eigen::Dynamic, 1>&, const Eigen::Matrix<S, Eigen::Dynamic, 1>&)>
       single;
 };
 
-template <class S, class T>
-std::vector<BatchCase<S, T>> batch_cases(const Model<S, T>& model) {
+template <class MT>
+std::vector<BatchCase<MT>> batch_cases(const MT& model) {
+  using S = typename MT::Scalar;
   using Vec = Eigen::Matrix<S, Eigen::Dynamic, 1>;
   using M = BatchMatrix<S>;
   using Out = Eigen::Ref<M, 0, Eigen::OuterStride<>>;
-  const int n = model.size();
-  std::vector<BatchCase<S, T>> cases;
+  using B = typename BatchCase<MT>::BatchT;
+  using D = typename BatchCase<MT>::DataT;
+  const int n = detail::ModelTraits<MT>::nv(model);
+  std::vector<BatchCase<MT>> cases;
   cases.push_back({"rnea", n, 1, 1e-13,
-                   [](Batch<S, T>& b, const M& q, const M& v, const M& a, Out out) { b.rnea(q, v, a, out); },
-                   [](const Model<S, T>& m, Data<S, T>& d, const Vec& q, const Vec& v, const Vec& a) -> M {
+                   [](B& b, const M& q, const M& v, const M& a, Out out) { b.rnea(q, v, a, out); },
+                   [](const MT& m, D& d, const Vec& q, const Vec& v, const Vec& a) -> M {
                      return rnea(m, d, q, v, a);
                    }});
   cases.push_back({"gravity", n, 1, 1e-13,
-                   [](Batch<S, T>& b, const M& q, const M&, const M&, Out out) { b.gravity(q, out); },
-                   [](const Model<S, T>& m, Data<S, T>& d, const Vec& q, const Vec&, const Vec&) -> M {
+                   [](B& b, const M& q, const M&, const M&, Out out) { b.gravity(q, out); },
+                   [](const MT& m, D& d, const Vec& q, const Vec&, const Vec&) -> M {
                      return gravity_torques(m, d, q);
                    }});
   cases.push_back({"bias", n, 1, 1e-13,
-                   [](Batch<S, T>& b, const M& q, const M& v, const M&, Out out) { b.bias(q, v, out); },
-                   [](const Model<S, T>& m, Data<S, T>& d, const Vec& q, const Vec& v, const Vec&) -> M {
+                   [](B& b, const M& q, const M& v, const M&, Out out) { b.bias(q, v, out); },
+                   [](const MT& m, D& d, const Vec& q, const Vec& v, const Vec&) -> M {
                      return bias_forces(m, d, q, v);
                    }});
   cases.push_back({"aba", n, 1, 2e-12,
-                   [](Batch<S, T>& b, const M& q, const M& v, const M& a, Out out) { b.aba(q, v, a, out); },
-                   [](const Model<S, T>& m, Data<S, T>& d, const Vec& q, const Vec& v, const Vec& a) -> M {
+                   [](B& b, const M& q, const M& v, const M& a, Out out) { b.aba(q, v, a, out); },
+                   [](const MT& m, D& d, const Vec& q, const Vec& v, const Vec& a) -> M {
                      return aba(m, d, q, v, a);
                    }});
   cases.push_back({"forward_dynamics_crba", n, 1, 2e-12,
-                   [](Batch<S, T>& b, const M& q, const M& v, const M& a, Out out) {
+                   [](B& b, const M& q, const M& v, const M& a, Out out) {
                      b.forward_dynamics_crba(q, v, a, out);
                    },
-                   [](const Model<S, T>& m, Data<S, T>& d, const Vec& q, const Vec& v, const Vec& a) -> M {
+                   [](const MT& m, D& d, const Vec& q, const Vec& v, const Vec& a) -> M {
                      return forward_dynamics_crba(m, d, q, v, a);
                    }});
   cases.push_back({"crba", n, n, 1e-13,
-                   [](Batch<S, T>& b, const M& q, const M&, const M&, Out out) { b.crba(q, out); },
-                   [](const Model<S, T>& m, Data<S, T>& d, const Vec& q, const Vec&, const Vec&) -> M {
+                   [](B& b, const M& q, const M&, const M&, Out out) { b.crba(q, out); },
+                   [](const MT& m, D& d, const Vec& q, const Vec&, const Vec&) -> M {
                      return crba(m, d, q);
                    }});
-  // Up to three fixed frames: the first, a middle one and the last.
-  const int frames = static_cast<int>(model.frames().size());
-  std::vector<int> picked;
-  for (const int k : {0, frames / 2, frames - 1})
-    if (k >= 0 && std::find(picked.begin(), picked.end(), k) == picked.end()) picked.push_back(k);
-  for (const int k : picked) {
-    cases.push_back({"frame_placement " + model.frames()[static_cast<std::size_t>(k)].name, 3, 4, 1e-13,
-                     [k](Batch<S, T>& b, const M& q, const M&, const M&, Out out) { b.frame_placement(q, k, out); },
-                     [k](const Model<S, T>& m, Data<S, T>& d, const Vec& q, const Vec&, const Vec&) -> M {
-                       forward_kinematics(m, d, q);
-                       return frame_pose(m, d, k).matrix().topRows(3);
-                     }});
-    for (const ReferenceFrame rf : {ReferenceFrame::Local, ReferenceFrame::World, ReferenceFrame::LocalWorldAligned}) {
-      cases.push_back({"frame_jacobian " + model.frames()[static_cast<std::size_t>(k)].name + " rf " +
-                           std::to_string(static_cast<int>(rf)),
-                       6, n, 1e-13,
-                       [k, rf](Batch<S, T>& b, const M& q, const M&, const M&, Out out) {
-                         b.frame_jacobian(q, k, rf, out);
-                       },
-                       [k, rf](const Model<S, T>& m, Data<S, T>& d, const Vec& q, const Vec&, const Vec&) -> M {
-                         M J = M::Zero(6, m.size());
-                         compute_frame_jacobian(m, d, q, k, rf, J);
-                         return J;
+  if constexpr (!B::floating) {  // frame placements and Jacobians: fixed base only
+    // Up to three fixed frames: the first, a middle one and the last.
+    const int frames = static_cast<int>(model.frames().size());
+    std::vector<int> picked;
+    for (const int k : {0, frames / 2, frames - 1})
+      if (k >= 0 && std::find(picked.begin(), picked.end(), k) == picked.end()) picked.push_back(k);
+    for (const int k : picked) {
+      cases.push_back({"frame_placement " + model.frames()[static_cast<std::size_t>(k)].name, 3, 4, 1e-13,
+                       [k](B& b, const M& q, const M&, const M&, Out out) { b.frame_placement(q, k, out); },
+                       [k](const MT& m, D& d, const Vec& q, const Vec&, const Vec&) -> M {
+                         forward_kinematics(m, d, q);
+                         return frame_pose(m, d, k).matrix().topRows(3);
                        }});
+      for (const ReferenceFrame rf :
+           {ReferenceFrame::Local, ReferenceFrame::World, ReferenceFrame::LocalWorldAligned}) {
+        cases.push_back({"frame_jacobian " + model.frames()[static_cast<std::size_t>(k)].name + " rf " +
+                             std::to_string(static_cast<int>(rf)),
+                         6, n, 1e-13,
+                         [k, rf](B& b, const M& q, const M&, const M&, Out out) {
+                           b.frame_jacobian(q, k, rf, out);
+                         },
+                         [k, rf](const MT& m, D& d, const Vec& q, const Vec&, const Vec&) -> M {
+                           M J = M::Zero(6, m.size());
+                           compute_frame_jacobian(m, d, q, k, rf, J);
+                           return J;
+                         }});
+      }
     }
   }
   return cases;
 }
 
-/// Every check of the file comment for one model (given in double; float runs its `cast<float>()`).
-template <class S, class T>
-void check_batch(const Model<double, T>& model64, const std::string& label, unsigned seed) {
-  const Model<S, T> model = model64.template cast<S>();
-  Data<S, T> data(model);
-  Batch<S, T> one(model, 1), two(model, 2);
+/// nq × B random configurations: uniform in [−scale, scale], a floating base's quaternion (rows 3 … 6) normalised.
+template <class S, bool Floating>
+BatchMatrix<S> random_configurations(int nq, int B, std::mt19937& rng, double scale) {
+  BatchMatrix<S> Q = random_states<S>(nq, B, rng, scale);
+  if constexpr (Floating)
+    for (int j = 0; j < B; ++j) Q.col(j).template segment<4>(3).normalize();
+  return Q;
+}
+
+/// Every check of the file comment for one model (given in double, `Model<double, T>` or `FloatingModel<double, T>`;
+/// float runs its `cast<float>()`).
+template <class S, class M64>
+void check_batch(const M64& model64, const std::string& label, unsigned seed) {
+  const auto model = model64.template cast<S>();
+  using MT = std::remove_const_t<decltype(model)>;
+  using BatchT = typename BatchTypes<MT>::BatchT;
+  typename BatchTypes<MT>::DataT data(model);
+  BatchT one(model, 1), two(model, 2);
   ASSERT_EQ(two.threads(), 2);
-  constexpr int L = Batch<S, T>::lanes;
-  const int n = model.size();
+  constexpr int L = BatchT::lanes;
+  const int n = detail::ModelTraits<MT>::nv(model), nq = detail::ModelTraits<MT>::nq(model);
+  ASSERT_EQ(one.nv(), n);
+  ASSERT_EQ(one.nq(), nq);
   const bool is_float = std::is_same_v<S, float>;
   std::mt19937 rng(seed);
   // The double calls, for the float single-state call's own error (the float tolerance).
-  Data<double, T> data64(model64);
+  typename BatchTypes<M64>::DataT data64(model64);
   const auto cases64 = batch_cases(model64);
   const auto cases = batch_cases(model);
   for (std::size_t ci = 0; ci < cases.size(); ++ci) {
@@ -169,8 +208,8 @@ void check_batch(const Model<double, T>& model64, const std::string& label, unsi
     double worst = 0;                                 // double: largest distance from the single-state call
     double worst_single = 0, worst_batched = 0;       // float: largest distances from the double call
     for (int B = 1; B <= 3 * L + 1; ++B) {
-      const BatchMatrix<S> Q = random_states<S>(n, B, rng, 2.0), V = random_states<S>(n, B, rng, 2.0),
-                           A = random_states<S>(n, B, rng, 2.0);
+      const BatchMatrix<S> Q = random_configurations<S, BatchT::floating>(nq, B, rng, 2.0),
+                           V = random_states<S>(n, B, rng, 2.0), A = random_states<S>(n, B, rng, 2.0);
       BatchMatrix<S> out1(c.rows, c.width * B), out2(c.rows, c.width * B);
       out1.setConstant(S(-7));
       out2.setConstant(S(-7));
@@ -211,7 +250,7 @@ void check_batch(const Model<double, T>& model64, const std::string& label, unsi
             << label << " " << c.name << ": wrote outside its block";
         // A NaN in state 1's q (and in state 2's q̇ or τ) stays there.
         BatchMatrix<S> Qn = Q, Vn = V;
-        Qn(n / 2, 1) = std::numeric_limits<S>::quiet_NaN();
+        Qn(nq / 2, 1) = std::numeric_limits<S>::quiet_NaN();
         Vn(0, 2) = std::numeric_limits<S>::quiet_NaN();
         BatchMatrix<S> outn(c.rows, c.width * B);
         c.run(two, Qn, Vn, A, outn);

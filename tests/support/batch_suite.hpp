@@ -12,6 +12,7 @@
 
 #if SPATIAL_TEST_COMPILE_TIME_TREES
 #include <spatial/models/hoap3_double_pendulum.hpp>
+#include <spatial/models/hoap3_floating.hpp>
 #include <spatial/models/hoap3_stance_right.hpp>
 #include <spatial/models/hoap3_torso.hpp>
 #endif
@@ -49,6 +50,15 @@ TEST(Batch, RandomRunTimeBranchedTreesOfEveryJointTypeMatchTheSingleStateCalls) 
     const Model<double> model = random_tree(15, spatial::testing::Shape::Branched, seed);
     check_batch<double>(model, "branched15", seed);
     check_batch<float>(model, "branched15", seed);
+  }
+}
+
+// FloatingBatch: random trees of every joint type under a free-flying root body.
+TEST(Batch, RandomRunTimeFloatingTreesMatchTheSingleStateCalls) {
+  for (const unsigned seed : {13u, 14u}) {
+    const FloatingModel<double> model = spatial::testing::random_floating(10, spatial::testing::Shape::Branched, seed);
+    check_batch<double>(model, "floating10", seed);
+    check_batch<float>(model, "floating10", seed);
   }
 }
 
@@ -91,6 +101,10 @@ TEST(Batch, HoapCompileTimeModelsMatchTheSingleStateCalls) {
   check_batch<float>(models::hoap3_stance_right::model(), "stance21", 51);
   check_batch<double>(models::hoap3_torso::model(), "torso8", 52);
   check_batch<double>(models::hoap3_double_pendulum::model(), "pendulum2", 53);
+}
+// The floating HOAP-3 (27 DoF) in double (float: on the random floating trees, and in bench_batch's check).
+TEST(Batch, HoapFloatingCompileTimeModelMatchesTheSingleStateCalls) {
+  check_batch<double>(models::hoap3_floating::floating_model(), "floating27", 54);
 }
 #endif
 
