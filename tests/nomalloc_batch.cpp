@@ -1,6 +1,7 @@
 // The batched algorithms (batch.hpp) never allocate after construction, on one thread and on two (the worker pool
 // is woken, not started, per call): a run-time tree of every joint type, a floating one (FloatingBatch) and the
-// compile-time HOAP-3 stance model, double and float, every method, B not a multiple of the lane count. Guards: tests/support/no_allocation.hpp.
+// compile-time HOAP-3 stance model, double and float, every method, B not a multiple of the lane count.
+// Guards: tests/support/no_allocation.hpp.
 #include <spatial/batch.hpp>
 #include <spatial/models/hoap3_stance_right.hpp>
 
@@ -15,13 +16,22 @@ using namespace spatial;
 namespace st = spatial::testing;
 using spatial::testing::NoAllocationRegion;
 
-template <class S, class T>
-void expect_no_allocation(const Model<S, T>& model, int threads) {
+/// Every method of the batch of `model`: Batch for a `Model`, FloatingBatch for a `FloatingModel` (q with nq = nv + 1
+/// rows, its quaternion normalised; no frame methods, which are fixed-base only).
+template <class MT>
+void expect_no_allocation(const MT& model, int threads) {
+  using S = typename MT::Scalar;
+  using Traits = detail::ModelTraits<MT>;
+  constexpr bool floating = Traits::voff != 0;
+  using BatchT = BasicBatch<S, typename MT::tree_type, floating>;
   using M = Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>;
-  Batch<S, T> batch(model, threads);
-  const int n = model.size(), B = 3 * Batch<S, T>::lanes + 1;
-  const M Q = M::Random(n, B), V = M::Random(n, B), A = M::Random(n, B);
-  M tau(n, B), qdd(n, B), H(n, n * B), P(3, 4 * B), J(6, n * B);
+  BatchT batch(model, threads);
+  const int nq = Traits::nq(model), n = Traits::nv(model), B = 3 * BatchT::lanes + 1;
+  M Q = M::Random(nq, B);
+  if constexpr (floating)
+    for (int j = 0; j < B; ++j) Q.col(j).template segment<4>(3).normalize();
+  const M V = M::Random(n, B), A = M::Random(n, B);
+  M tau(n, B), qdd(n, B), H(n, n * B), P = M::Zero(3, 4 * B), J = M::Zero(6, n * B);
   long news = -1;
   {
     NoAllocationRegion guard;
@@ -31,44 +41,21 @@ void expect_no_allocation(const Model<S, T>& model, int threads) {
     batch.aba(Q, V, A, qdd);
     batch.forward_dynamics_crba(Q, V, A, qdd);
     batch.crba(Q, H);
-    batch.frame_placement(Q, 0, P);
-    batch.frame_jacobian(Q, 0, ReferenceFrame::LocalWorldAligned, J);
+    if constexpr (!floating) {
+      batch.frame_placement(Q, 0, P);
+      batch.frame_jacobian(Q, 0, ReferenceFrame::LocalWorldAligned, J);
+    }
     news = guard.new_calls();
   }
   EXPECT_EQ(news, 0) << threads << " thread(s)";
   EXPECT_TRUE(tau.allFinite() && qdd.allFinite() && H.allFinite() && P.allFinite() && J.allFinite());
 }
 
-/// The same for a floating base (FloatingBatch: q has nq = nv + 1 rows; no frame methods).
-template <class S, class T>
-void expect_no_allocation_floating(const FloatingModel<S, T>& model, int threads) {
-  using M = Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>;
-  FloatingBatch<S, T> batch(model, threads);
-  const int nq = model.nq(), n = model.nv(), B = 3 * FloatingBatch<S, T>::lanes + 1;
-  M Q = M::Random(nq, B);
-  for (int j = 0; j < B; ++j) Q.col(j).template segment<4>(3).normalize();
-  const M V = M::Random(n, B), A = M::Random(n, B);
-  M tau(n, B), qdd(n, B), H(n, n * B);
-  long news = -1;
-  {
-    NoAllocationRegion guard;
-    batch.rnea(Q, V, A, tau);
-    batch.gravity(Q, tau);
-    batch.bias(Q, V, tau);
-    batch.aba(Q, V, A, qdd);
-    batch.forward_dynamics_crba(Q, V, A, qdd);
-    batch.crba(Q, H);
-    news = guard.new_calls();
-  }
-  EXPECT_EQ(news, 0) << threads << " thread(s)";
-  EXPECT_TRUE(tau.allFinite() && qdd.allFinite() && H.allFinite());
-}
-
 TEST(NoMallocBatch, RunTimeFloatingTreeOfEveryJointType) {
   const FloatingModel<double> model = st::random_floating(9, st::Shape::Branched, 7);
   for (const int threads : {1, 2}) {
-    expect_no_allocation_floating(model, threads);
-    expect_no_allocation_floating(model.cast<float>(), threads);
+    expect_no_allocation(model, threads);
+    expect_no_allocation(model.cast<float>(), threads);
   }
 }
 
