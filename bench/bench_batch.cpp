@@ -20,7 +20,8 @@
 // model and scalar with the largest difference). They are not bit-identical: batch.hpp says why.
 //
 // The floating base (FloatingBatch) on floating27, the compile-time tree, double and float, B = 1024: RNEA, CRBA and
-// ABA on every thread count, GravityTorques and FD_CRBA_LTDL on one thread; the states are bench_floating's 256
+// ABA on every thread count, GravityTorques, FD_CRBA_LTDL, FK and ComputeFrameJacobian (L_SOLE, placed in the world,
+// its Jacobian LOCAL_WORLD_ALIGNED) on one thread; the states are bench_floating's 256
 // (bench_floating.hpp: root anywhere in a 1 m box, any orientation), repeated; checked as above against the
 // single-state calls on the run-time twin before timing.
 #include "bench_common.hpp"
@@ -52,7 +53,7 @@ std::vector<int> thread_counts() {
 }
 
 /// The fixed frame of FK_batch and ComputeFrameJacobian_batch: the end of the longest branch.
-const char* frame_of(const std::string& model) { return model == "stance21" ? "L_SOLE" : "L_HAND"; }
+const char* frame_of(const std::string& model) { return model == "torso8" ? "L_HAND" : "L_SOLE"; }
 
 /// kMaxB random states (bench_models.hpp's InputPool with its seed: the first 256 are bench_algorithms' pool), one
 /// column per state, and the single-state results of the first kChecked on the run-time twin.
@@ -251,23 +252,31 @@ void register_floating() {
   const std::string on = std::string(" (") + scalar_name<S>() + ", all thread counts) on floating27";
   peers::PeerCheck tau{"RNEA_batch tau" + on, dbl ? 1e-12 : 1e-4}, grav{"GravityTorques_batch" + on, dbl ? 1e-12 : 1e-4},
       H{"CRBA_batch H" + on, dbl ? 1e-12 : 1e-4}, fd{"FD_CRBA_LTDL_batch qdd" + on, dbl ? 1e-12 : 1e-3},
-      qdd{"ABA_batch qdd" + on, dbl ? 1e-12 : 1e-4};
+      qdd{"ABA_batch qdd" + on, dbl ? 1e-12 : 1e-4}, T{"FK_batch frame placement" + on, dbl ? 1e-12 : 1e-4},
+      J{"ComputeFrameJacobian_batch" + on, dbl ? 1e-12 : 1e-4};
   FloatingData<S> data(runtime);
+  const int frame = runtime.frame_index(frame_of("floating27"));
   for (const int threads : thread_counts()) {
     auto batch = std::make_shared<FB>(model, threads);
     for (const int b : {kChecked, 3 * FB::lanes + 1}) {
-      M t(nv, b), g(nv, b), h(nv, nv * b), f(nv, b), a(nv, b);
+      M t(nv, b), g(nv, b), h(nv, nv * b), f(nv, b), a(nv, b), p(3, 4 * b), j(6, nv * b), jk(6, nv);
       batch->rnea(x->q.leftCols(b), x->v.leftCols(b), x->u.leftCols(b), t);
       batch->gravity(x->q.leftCols(b), g);
       batch->crba(x->q.leftCols(b), h);
       batch->forward_dynamics_crba(x->q.leftCols(b), x->v.leftCols(b), x->u.leftCols(b), f);
       batch->aba(x->q.leftCols(b), x->v.leftCols(b), x->u.leftCols(b), a);
+      batch->frame_placement(x->q.leftCols(b), frame, p);
+      batch->frame_jacobian(x->q.leftCols(b), frame, ReferenceFrame::LocalWorldAligned, j);
       for (int k = 0; k < b; ++k) {
         tau.compare(t.col(k), rnea(runtime, data, x->q.col(k), x->v.col(k), x->u.col(k)));
         grav.compare(g.col(k), gravity_torques(runtime, data, x->q.col(k)));
         H.compare(h.middleCols(k * nv, nv), crba(runtime, data, x->q.col(k)));
         fd.compare(f.col(k), forward_dynamics_crba(runtime, data, x->q.col(k), x->v.col(k), x->u.col(k)));
         qdd.compare(a.col(k), aba(runtime, data, x->q.col(k), x->v.col(k), x->u.col(k)));
+        forward_kinematics(runtime, data, x->q.col(k));
+        T.compare(p.middleCols(4 * k, 4), M(frame_pose(runtime, data, frame).matrix().topRows(3)));
+        compute_frame_jacobian(runtime, data, x->q.col(k), frame, ReferenceFrame::LocalWorldAligned, jk);
+        J.compare(j.middleCols(k * nv, nv), jk);
       }
     }
     const auto name = [&](const char* algorithm) {
@@ -291,8 +300,15 @@ void register_floating() {
                    [](FB& b, const X& s, int m, M& out) {
                      b.forward_dynamics_crba(s.q.leftCols(m), s.v.leftCols(m), s.u.leftCols(m), out);
                    });
+    register_batch(name("FK"), batch, std::shared_ptr<const X>(x), B, 3, 4, [frame](FB& b, const X& s, int m, M& out) {
+      b.frame_placement(s.q.leftCols(m), frame, out);
+    });
+    register_batch(name("ComputeFrameJacobian"), batch, std::shared_ptr<const X>(x), B, 6, nv,
+                   [frame](FB& b, const X& s, int m, M& out) {
+                     b.frame_jacobian(s.q.leftCols(m), frame, ReferenceFrame::LocalWorldAligned, out);
+                   });
   }
-  for (const peers::PeerCheck* c : {&tau, &grav, &H, &fd, &qdd}) c->report();
+  for (const peers::PeerCheck* c : {&tau, &grav, &H, &fd, &qdd, &T, &J}) c->report();
 }
 
 const bool registered = [] {

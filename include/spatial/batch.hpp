@@ -40,8 +40,9 @@
 /// badly conditioned, q̈ of CRBA + LTDL on stance21, both are ~1e-3 from double in some states).
 ///
 /// ## Cost and limits
-/// Allocation-free after construction, no exception, no virtual call. Fixed-base trees, compile-time or run-time,
-/// every joint type. Not batched (yet): floating-base models, external forces, the derivatives.
+/// Allocation-free after construction, no exception, no virtual call. Fixed-base trees (`Batch`) and floating-base
+/// trees (`FloatingBatch`), compile-time or run-time, every joint type. Not batched (yet): external forces, the
+/// derivatives.
 
 #include "spatial/spatial.hpp"
 
@@ -397,19 +398,22 @@ class BasicBatch {
       }
     });
   }
-  /// Placement in base coordinates of fixed frame `frame` (`model.frames()[frame]`) per state: `T` is 3 × (4·B),
-  /// state j's [R p] in columns 4j … 4j + 3 (R: the frame's axes in base coordinates, p: its origin), as
-  /// `frame_pose(model, data, frame).matrix().topRows(3)` after `forward_kinematics`.
+  /// Placement of fixed frame `frame` (`frames()[frame]`) per state: `T` is 3 × (4·B), state j's [R p] in columns
+  /// 4j … 4j + 3 (R: the frame's axes, p: its origin), as `frame_pose(model, data, frame).matrix().topRows(3)` after
+  /// `forward_kinematics`: in base coordinates for a fixed base, in the world for a floating base.
   template <class Q, class Out>
   void frame_placement(const Eigen::MatrixBase<Q>& q, int frame, const Eigen::MatrixBase<Out>& T) {
-    static_assert(!Floating, "Batch::frame_placement: fixed-base models only (not batched yet on a floating base)");
     detail::check_batch_shape(q, nq_, q.cols(), "frame_placement", "q");
     detail::check_batch_shape(T, 3, 4 * q.cols(), "frame_placement", "T");
-    const FixedFrame<Pack>& fr = model_.frames()[static_cast<std::size_t>(frame)];
+    const FixedFrame<Pack>& fr = frames()[static_cast<std::size_t>(frame)];
     each(q.cols(), [&](Work& w, int j0, int m) {
       gather(w, j0, m, q);
       spatial::forward_kinematics(model_, w.data, w.q);
-      const Transform<Pack> X = fr.body >= 0 ? fr.X * w.data.X_base[static_cast<std::size_t>(fr.body)] : fr.X;
+      Transform<Pack> X;
+      if constexpr (Floating)
+        X = fr.X * world_transform(w.data, fr.body);
+      else
+        X = fr.body >= 0 ? fr.X * w.data.X_base[static_cast<std::size_t>(fr.body)] : fr.X;
       Eigen::Matrix<Pack, 3, 4> P;
       P.template leftCols<3>() = X.E.transpose();
       P.col(3) = X.r;
@@ -417,10 +421,10 @@ class BasicBatch {
     });
   }
   /// Jacobian of fixed frame `frame` in `rf` per state (`compute_frame_jacobian`): `J` is 6 × (nv·B), state j's in
-  /// columns j·nv … j·nv + nv − 1, rows linear first (the library's Jacobian convention, kinematics.hpp).
+  /// columns j·nv … j·nv + nv − 1, rows linear first (the library's Jacobian convention, kinematics.hpp); on a
+  /// floating base its first six columns are the free-flyer's (body-frame velocity, linear first).
   template <class Q, class Out>
   void frame_jacobian(const Eigen::MatrixBase<Q>& q, int frame, ReferenceFrame rf, const Eigen::MatrixBase<Out>& J) {
-    static_assert(!Floating, "Batch::frame_jacobian: fixed-base models only (not batched yet on a floating base)");
     detail::check_batch_shape(q, nq_, q.cols(), "frame_jacobian", "q");
     detail::check_batch_shape(J, 6, static_cast<long long>(nv_) * q.cols(), "frame_jacobian", "J");
     each(q.cols(), [&](Work& w, int j0, int m) {
@@ -429,6 +433,8 @@ class BasicBatch {
       put(w.J.data(), 6, nv_, j0, m, staging(w), J);
     });
   }
+  /// The model's fixed frames (those of its tree on a floating base), in lane form.
+  const std::vector<FixedFrame<Pack>>& frames() const { return Traits::tree(model_).frames(); }
 
  private:
   using Traits = detail::ModelTraits<LaneModel>;

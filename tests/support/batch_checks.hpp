@@ -142,14 +142,17 @@ std::vector<BatchCase<MT>> batch_cases(const MT& model) {
                    [](const MT& m, D& d, const Vec& q, const Vec&, const Vec&) -> M {
                      return crba(m, d, q);
                    }});
-  if constexpr (!B::floating) {  // frame placements and Jacobians: fixed base only
-    // Up to three fixed frames: the first, a middle one and the last.
-    const int frames = static_cast<int>(model.frames().size());
+  {
+    // Up to three fixed frames: the first, a middle one and the last (a floating base's: its tree's, placed in
+    // the world).
+    const auto& all_frames = detail::ModelTraits<MT>::tree(model).frames();
+    const int frames = static_cast<int>(all_frames.size());
     std::vector<int> picked;
     for (const int k : {0, frames / 2, frames - 1})
-      if (k >= 0 && std::find(picked.begin(), picked.end(), k) == picked.end()) picked.push_back(k);
+      if (k >= 0 && k < frames && std::find(picked.begin(), picked.end(), k) == picked.end()) picked.push_back(k);
     for (const int k : picked) {
-      cases.push_back({"frame_placement " + model.frames()[static_cast<std::size_t>(k)].name, 3, 4, 1e-13,
+      const std::string& name = all_frames[static_cast<std::size_t>(k)].name;
+      cases.push_back({"frame_placement " + name, 3, 4, 1e-13,
                        [k](B& b, const M& q, const M&, const M&, Out out) { b.frame_placement(q, k, out); },
                        [k](const MT& m, D& d, const Vec& q, const Vec&, const Vec&) -> M {
                          forward_kinematics(m, d, q);
@@ -157,14 +160,14 @@ std::vector<BatchCase<MT>> batch_cases(const MT& model) {
                        }});
       for (const ReferenceFrame rf :
            {ReferenceFrame::Local, ReferenceFrame::World, ReferenceFrame::LocalWorldAligned}) {
-        cases.push_back({"frame_jacobian " + model.frames()[static_cast<std::size_t>(k)].name + " rf " +
+        cases.push_back({"frame_jacobian " + name + " rf " +
                              std::to_string(static_cast<int>(rf)),
                          6, n, 1e-13,
                          [k, rf](B& b, const M& q, const M&, const M&, Out out) {
                            b.frame_jacobian(q, k, rf, out);
                          },
-                         [k, rf](const MT& m, D& d, const Vec& q, const Vec&, const Vec&) -> M {
-                           M J = M::Zero(6, m.size());
+                         [k, rf, n](const MT& m, D& d, const Vec& q, const Vec&, const Vec&) -> M {
+                           M J = M::Zero(6, n);
                            compute_frame_jacobian(m, d, q, k, rf, J);
                            return J;
                          }});

@@ -53,10 +53,13 @@ TEST(Batch, RandomRunTimeBranchedTreesOfEveryJointTypeMatchTheSingleStateCalls) 
   }
 }
 
-// FloatingBatch: random trees of every joint type under a free-flying root body.
+// FloatingBatch: random trees of every joint type under a free-flying root body, with fixed frames on the root and
+// on two bodies (frame placements in the world and frame Jacobians through the free-flyer).
 TEST(Batch, RandomRunTimeFloatingTreesMatchTheSingleStateCalls) {
   for (const unsigned seed : {13u, 14u}) {
-    const FloatingModel<double> model = spatial::testing::random_floating(10, spatial::testing::Shape::Branched, seed);
+    std::mt19937 rng(seed + 1000);
+    const FloatingModel<double> model(random_tree(10, spatial::testing::Shape::Branched, seed),
+                                      spatial::testing::random_root_inertia(rng), "root");
     check_batch<double>(model, "floating10", seed);
     check_batch<float>(model, "floating10", seed);
   }
