@@ -9,9 +9,14 @@
 #      unrolled trees cost ~3 CPU minutes per compiler and which no target asks of a second compiler. Tests are
 #      not built here (scripts/test.sh does that).
 #   3. Runs the benchmark binaries of each build (Google Benchmark, repetitions with medians) and the error study,
-#      writing JSON to build/report/raw/<compiler>/. Among them (first compiler only, not in $COMPARED_BENCHES)
-#      bench_batch, the batched algorithms of issue 15 on 1 and all cores; Pinocchio's batch API runs inside
-#      bench_pinocchio where the compiler has OpenMP (g++; clang without libomp-dev skips that part).
+#      writing JSON to build/report/raw/<compiler>/. The repetitions of a binary's benchmarks run in random order,
+#      interleaved (--benchmark_enable_random_interleaving): on a shared host whose speed changes for seconds at a
+#      time, a benchmark's five repetitions then fall in different periods instead of one (over four runs of
+#      bench_batch, a median's largest ÷ smallest value was 1.16 on average and up to 1.66 in order, 1.05 and up to
+#      1.10 interleaved: the commit that made it the default says how it was measured). Among them (first compiler
+#      only, not in $COMPARED_BENCHES) bench_batch, the batched algorithms of issue 15 on 1 and all cores; Pinocchio's
+#      batch API runs inside bench_pinocchio where the compiler has OpenMP (g++; clang without libomp-dev skips that
+#      part).
 #   4. The reference study's scenes: `spatial-dyn scene all` (first compiler's build) into build/report/scenes/,
 #      plotted by tools/plot_scenes.py (skipped without matplotlib).
 #   5. The iLQR example of the derivatives (`spatial-ilqr`, first compiler's build) into build/report/ilqr/, plotted
@@ -26,10 +31,11 @@
 #   8. tools/report.py: build/report/report.md, summary.json and the PNG charts; prints the headline table.
 #
 # Extra arguments are passed to every benchmark binary, e.g.  scripts/main.sh --benchmark_filter=stance21
-# Environment: JOBS (build parallelism, default 2), REPETITIONS (default 5), MIN_TIME (seconds per repetition,
-# default 0.05), COMPILERS (default "gcc clang"), COMPARED_BENCHES (what the compilers after the first build and
-# run; default "bench_algorithms bench_floating bench_kdl bench_pinocchio error_study"; "all": every binary),
-# SKIP_PEERS=1 (no Pinocchio, no charts; build/venv then holds only the Python package and its build tools).
+# Environment: JOBS (build parallelism, default 2), REPETITIONS (default 5), MIN_TIME (seconds per repetition, default
+# 0.05), INTERLEAVE (default 1; 0: each benchmark's repetitions one after another), COMPILERS (default "gcc clang"),
+# COMPARED_BENCHES (what the compilers after the first build and run; default "bench_algorithms bench_floating
+# bench_kdl bench_pinocchio error_study"; "all": every binary), SKIP_PEERS=1 (no Pinocchio, no charts; build/venv then
+# holds only the Python package and its build tools).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
@@ -37,6 +43,8 @@ start=$(date +%s)
 jobs=${JOBS:-2}
 repetitions=${REPETITIONS:-5}
 min_time=${MIN_TIME:-0.05}
+interleave=true
+[[ "${INTERLEAVE:-1}" == 0 ]] && interleave=false
 compilers=${COMPILERS:-gcc clang}
 compared_benches=${COMPARED_BENCHES:-bench_algorithms bench_floating bench_kdl bench_pinocchio error_study}
 report_dir=build/report
@@ -117,6 +125,7 @@ for compiler in $compilers; do
     name=$(basename "$bench")
     stage "$compiler: $name"
     "$bench" --benchmark_min_time="$min_time" --benchmark_repetitions="$repetitions" \
+      --benchmark_enable_random_interleaving="$interleave" \
       --benchmark_report_aggregates_only=true \
       --benchmark_out="$out/$name.json" --benchmark_out_format=json "$@" >"$out/$name.txt" 2>&1 ||
       { cat "$out/$name.txt"; echo "main.sh: $name failed" >&2; exit 1; }

@@ -1158,7 +1158,8 @@ def write_report(out_dir, compilers, records, time_kind, charts_enabled=True, sc
         rows.append(["Google Benchmark library", f"{lib_type} build (Debian's libbenchmark; only its bookkeeping "
                      "between timed batches, not the timed loop, runs in that library)"])
     rows.append(["time statistic", f"median over repetitions of the {'CPU' if time_kind == 'cpu' else 'wall'} time "
-                 "per call; each call takes a fresh state from a pool of 256 random states (q uniform within the URDF "
+                 "per call (scripts/main.sh runs the repetitions of a binary's benchmarks in random order, interleaved, "
+                 "so that a slow spell of the host does not take all of one benchmark's); each call takes a fresh state from a pool of 256 random states (q uniform within the URDF "
                  "joint limits, q̇, q̈, τ uniform in [−1, 1])"])
     rows.append(["models", "HOAP-3 from urdf/hoap3.urdf (src/models/): stance21 = whole body on the right foot "
                  "(21 DoF), torso8 = chest and arms (8 DoF), pendulum2 = the study's double inverted pendulum"])
