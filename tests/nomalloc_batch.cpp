@@ -43,6 +43,8 @@ void expect_no_allocation(const MT& model, int threads) {
     batch.crba(Q, H);
     batch.frame_placement(Q, 0, P);
     batch.frame_jacobian(Q, 0, ReferenceFrame::LocalWorldAligned, J);
+    batch.body_placement(Q, 1, P);
+    batch.body_jacobian(Q, 1, ReferenceFrame::Local, J);
     news = guard.new_calls();
   }
   EXPECT_EQ(news, 0) << threads << " thread(s)";

@@ -13,8 +13,8 @@
 /// to all lanes (`Model::cast`). One call of an algorithm on that model then runs `lanes` states at once, in
 /// structure-of-arrays form: every operation of the scalar code becomes one vector instruction over the lanes, with
 /// no shuffle and no horizontal sum, and the compile-time trees keep their unrolled code. Sines and cosines are the
-/// library's own (sincos.hpp) computed on the lanes. B need not be a multiple of `lanes`: the last group's unused lanes repeat its last state and
-/// their results are dropped. States are split over `threads` threads (a pool of the object's own, started once),
+/// library's own (sincos.hpp) computed on the lanes. B need not be a multiple of `lanes`: the last group's unused
+/// lanes repeat its last state and their results are dropped. States are split over `threads` threads (a pool of the object's own, started once),
 /// each with its own workspace; a state's result does not depend on B, on the thread count or on the other states
 /// of its group, bit for bit (lanes never mix: a NaN in one state stays in that state).
 ///
@@ -403,35 +403,28 @@ class BasicBatch {
   /// `forward_kinematics`: in base coordinates for a fixed base, in the world for a floating base.
   template <class Q, class Out>
   void frame_placement(const Eigen::MatrixBase<Q>& q, int frame, const Eigen::MatrixBase<Out>& T) {
-    detail::check_batch_shape(q, nq_, q.cols(), "frame_placement", "q");
-    detail::check_batch_shape(T, 3, 4 * q.cols(), "frame_placement", "T");
     const FixedFrame<Pack>& fr = frames()[static_cast<std::size_t>(frame)];
-    each(q.cols(), [&](Work& w, int j0, int m) {
-      gather(w, j0, m, q);
-      spatial::forward_kinematics(model_, w.data, w.q);
-      Transform<Pack> X;
-      if constexpr (Floating)
-        X = fr.X * world_transform(w.data, fr.body);
-      else
-        X = fr.body >= 0 ? fr.X * w.data.X_base[static_cast<std::size_t>(fr.body)] : fr.X;
-      Eigen::Matrix<Pack, 3, 4> P;
-      P.template leftCols<3>() = X.E.transpose();
-      P.col(3) = X.r;
-      put(P.data(), 3, 4, j0, m, staging(w), T);
-    });
+    placement("frame_placement", q, fr.body, &fr.X, T);
+  }
+  /// Placement of body `body` (−1: the base or root body) per state, as `frame_placement` (`body_pose` after
+  /// `forward_kinematics`).
+  template <class Q, class Out>
+  void body_placement(const Eigen::MatrixBase<Q>& q, int body, const Eigen::MatrixBase<Out>& T) {
+    placement("body_placement", q, body, nullptr, T);
   }
   /// Jacobian of fixed frame `frame` in `rf` per state (`compute_frame_jacobian`): `J` is 6 × (nv·B), state j's in
   /// columns j·nv … j·nv + nv − 1, rows linear first (the library's Jacobian convention, kinematics.hpp); on a
   /// floating base its first six columns are the free-flyer's (body-frame velocity, linear first).
   template <class Q, class Out>
   void frame_jacobian(const Eigen::MatrixBase<Q>& q, int frame, ReferenceFrame rf, const Eigen::MatrixBase<Out>& J) {
-    detail::check_batch_shape(q, nq_, q.cols(), "frame_jacobian", "q");
-    detail::check_batch_shape(J, 6, static_cast<long long>(nv_) * q.cols(), "frame_jacobian", "J");
-    each(q.cols(), [&](Work& w, int j0, int m) {
-      gather(w, j0, m, q);
-      spatial::compute_frame_jacobian(model_, w.data, w.q, frame, rf, w.J);
-      put(w.J.data(), 6, nv_, j0, m, staging(w), J);
-    });
+    jacobian("frame_jacobian", q, J,
+             [&](Work& w) { spatial::compute_frame_jacobian(model_, w.data, w.q, frame, rf, w.J); });
+  }
+  /// Jacobian of body `body` in `rf` per state (`compute_body_jacobian`), as `frame_jacobian`.
+  template <class Q, class Out>
+  void body_jacobian(const Eigen::MatrixBase<Q>& q, int body, ReferenceFrame rf, const Eigen::MatrixBase<Out>& J) {
+    jacobian("body_jacobian", q, J,
+             [&](Work& w) { spatial::compute_body_jacobian(model_, w.data, w.q, body, rf, w.J); });
   }
   /// The model's fixed frames (those of its tree on a floating base), in lane form.
   const std::vector<FixedFrame<Pack>>& frames() const { return Traits::tree(model_).frames(); }
@@ -455,6 +448,39 @@ class BasicBatch {
         : data(m), q(nq), v(n), a(n), J(6, n),
           tmp(static_cast<std::size_t>(std::max(n * n, 6 * n) + 12) * lanes + kStageSlack) {}
   };
+
+  /// [R p] of body `body` (−1: base or root), or of the fixed frame `*X` on it, per state (frame_placement).
+  template <class Q, class Out>
+  void placement(const char* function, const Eigen::MatrixBase<Q>& q, int body, const Transform<Pack>* X,
+                 const Eigen::MatrixBase<Out>& T) {
+    detail::check_batch_shape(q, nq_, q.cols(), function, "q");
+    detail::check_batch_shape(T, 3, 4 * q.cols(), function, "T");
+    each(q.cols(), [&](Work& w, int j0, int m) {
+      gather(w, j0, m, q);
+      spatial::forward_kinematics(model_, w.data, w.q);
+      Transform<Pack> Xb;
+      if constexpr (Floating)
+        Xb = world_transform(w.data, body);
+      else
+        Xb = body >= 0 ? w.data.X_base[static_cast<std::size_t>(body)] : Transform<Pack>::Identity();
+      if (X) Xb = *X * Xb;
+      Eigen::Matrix<Pack, 3, 4> P;
+      P.template leftCols<3>() = Xb.E.transpose();
+      P.col(3) = Xb.r;
+      put(P.data(), 3, 4, j0, m, staging(w), T);
+    });
+  }
+  /// The 6 × nv Jacobian that `fill(work)` leaves in work.J, per state (frame_jacobian, body_jacobian).
+  template <class Q, class Out, class Fill>
+  void jacobian(const char* function, const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<Out>& J, Fill&& fill) {
+    detail::check_batch_shape(q, nq_, q.cols(), function, "q");
+    detail::check_batch_shape(J, 6, static_cast<long long>(nv_) * q.cols(), function, "J");
+    each(q.cols(), [&](Work& w, int j0, int m) {
+      gather(w, j0, m, q);
+      fill(w);
+      put(w.J.data(), 6, nv_, j0, m, staging(w), J);
+    });
+  }
 
   /// The shapes of q (nq × B) and of the other arguments (nv × B).
   template <class X, class... Rest>

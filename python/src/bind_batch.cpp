@@ -1,7 +1,7 @@
 /// \file bind_batch.cpp
 /// Many states per call on SIMD lanes from Python: `spatial.Batch` (batch.hpp's `Batch<double, Tree>` or
-/// `FloatingBatch<double, Tree>` through engine.hpp's BatchBase). The functions (`spatial.rnea(model, Q, ...)`) loop over the states with the
-/// single-state code, so that a batch row equals the single call bit for bit; a Batch computes `lanes` states per
+/// `FloatingBatch<double, Tree>` through engine.hpp's BatchBase). The functions (`spatial.rnea(model, Q, ...)`) loop
+/// over the states with the single-state code, so that a batch row equals the single call bit for bit; a Batch computes `lanes` states per
 /// instruction instead (about twice the states per second), to within a few units in the last place of them.
 
 #include "bind_common.hpp"
@@ -17,9 +17,18 @@ struct PyBatch {
   std::mutex lock;
 };
 
+/// A frame method's target (resolve_target) and reference frame.
+struct FrameSpec {
+  int target = -1;
+  bool body = false;
+  spatial::ReferenceFrame reference = spatial::ReferenceFrame::LocalWorldAligned;
+};
+
 /// Runs `op` on the arguments `xs` (q first; each (n,), shared by every state, or (B, n), n = nq for q, nv for the
-/// others); returns (B, nv) or (B, nv, nv) for Crba, without the leading B when every argument is one state.
-NDArray call(PyBatch& s, Op op, const char* fn, std::initializer_list<std::pair<nb::handle, const char*>> xs) {
+/// others); returns (B, nv), (B, nv, nv) for Crba, (B, 4, 4) for FramePlacement or (B, 6, nv) for FrameJacobian (of
+/// `frame`), without the leading B when every argument is one state.
+NDArray call(PyBatch& s, Op op, const char* fn, std::initializer_list<std::pair<nb::handle, const char*>> xs,
+             const FrameSpec& frame = {}) {
   const int nv = s.model->nv;
   Array arrays[3];
   int widths[3] = {s.model->nq, nv, nv};
@@ -64,16 +73,38 @@ NDArray call(PyBatch& s, Op op, const char* fn, std::initializer_list<std::pair<
   npy_intp shape[3];
   int nd = 0;
   if (batched) shape[nd++] = npy_intp(count);
-  shape[nd++] = nv;
-  if (op == Op::Crba) shape[nd++] = nv;
+  if (op == Op::FramePlacement) {
+    shape[nd++] = 4;
+    shape[nd++] = 4;
+  } else if (op == Op::FrameJacobian) {
+    shape[nd++] = 6;
+    shape[nd++] = nv;
+  } else {
+    shape[nd++] = nv;
+    if (op == Op::Crba) shape[nd++] = nv;
+  }
   auto [obj, out] = new_array<double>(nd, shape);
   std::unique_lock<std::mutex> lock(s.lock, std::try_to_lock);
   if (!lock.owns_lock()) throw nb::value_error((std::string(fn) + ": this Batch is in use by another thread").c_str());
   {
     nb::gil_scoped_release release;
-    s.batch->run(op, count, in, out);
+    if (op == Op::FramePlacement || op == Op::FrameJacobian)
+      s.batch->frame(op, count, in[0], frame.target, frame.body, frame.reference, out);
+    else
+      s.batch->run(op, count, in, out);
   }
   return {obj};
+}
+
+/// The target of a frame method: a fixed frame or a body, by name or frame index (as the functions take it).
+FrameSpec frame_of(const PyBatch& s, nb::handle frame, const char* fn, const std::string& reference = {}) {
+  Call c;
+  resolve_target(*s.model, frame, fn, c);
+  FrameSpec f;
+  f.target = c.target;
+  f.body = c.target_is_body;
+  if (!reference.empty()) f.reference = reference_of(reference, fn);
+  return f;
 }
 
 }  // namespace
@@ -123,7 +154,23 @@ void bind_batch(nb::module_& m) {
            },
            "q"_a, "v"_a, "tau"_a, "Forward dynamics by CRBA + the tree's LTDL factorisation per state.")
       .def("crba", [](PyBatch& s, ArrayLike q) { return call(s, Op::Crba, "Batch.crba", {{q.h, "q"}}); }, "q"_a,
-           "Joint-space inertia H(q) per state, both triangles filled (exactly symmetric).");
+           "Joint-space inertia H(q) per state, both triangles filled (exactly symmetric).")
+      .def("frame_placement",
+           [](PyBatch& s, ArrayLike q, FrameArg frame) {
+             const FrameSpec f = frame_of(s, frame.h, "Batch.frame_placement");
+             return call(s, Op::FramePlacement, "Batch.frame_placement", {{q.h, "q"}}, f);
+           },
+           "q"_a, "frame"_a,
+           "Pose (4, 4) per state of a frame or body (name or frame index), as spatial.frame_placement: "
+           "[R p; 0 1], world (fixed base: base) coordinates.")
+      .def("frame_jacobian",
+           [](PyBatch& s, ArrayLike q, FrameArg frame, const std::string& reference) {
+             const FrameSpec f = frame_of(s, frame.h, "Batch.frame_jacobian", reference);
+             return call(s, Op::FrameJacobian, "Batch.frame_jacobian", {{q.h, "q"}}, f);
+           },
+           "q"_a, "frame"_a, "reference"_a = "local_world_aligned",
+           "Jacobian (6, nv) per state of a frame or body, as spatial.frame_jacobian: rows [v_lin; omega]; "
+           "reference 'local', 'world' or 'local_world_aligned'.");
 }
 
 }  // namespace spatial::python

@@ -151,6 +151,11 @@ class BatchBase {
   /// out the output row-major (count, nv), or (count, nv, nv) for Crba. Throws std::invalid_argument for another
   /// operation.
   virtual void run(Op op, std::ptrdiff_t count, const double* const* in, double* out) = 0;
+  /// FramePlacement or FrameJacobian of fixed frame `target` (of body `target` when `body`) on `count` states: q as
+  /// in `run`, out row-major (count, 4, 4) ([R p; 0 0 0 1]) or (count, 6, nv) (rows linear first, in `reference`).
+  /// Throws std::invalid_argument for another operation.
+  virtual void frame(Op op, std::ptrdiff_t count, const double* q, int target, bool body,
+                     spatial::ReferenceFrame reference, double* out) = 0;
 };
 
 /// What Python's `Model` holds: the model's description and its engine.

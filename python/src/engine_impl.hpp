@@ -138,15 +138,15 @@ template <class Tree, bool Floating>
 class BatchEngine final : public BatchBase {
  public:
   using BatchT = spatial::BasicBatch<double, Tree, Floating>;
-  BatchEngine(const typename BatchT::SourceModel& model, int threads)
-      : batch_(model, threads), nv_(batch_.nv()), nq_(batch_.nq()) {}
+  BatchEngine(const typename BatchT::SourceModel& model, int threads) : batch_(model, threads) {}
   int lanes() const override { return BatchT::lanes; }
   int threads() const override { return batch_.threads(); }
   void run(Op op, std::ptrdiff_t count, const double* const* in, double* out) override {
     using Cols = Eigen::Map<const Eigen::MatrixXd>;
     const auto n = static_cast<Eigen::Index>(count);
-    const auto arg = [&](int k) { return Cols(in[k], k == 0 ? nq_ : nv_, n); };
-    Eigen::Map<Eigen::MatrixXd> y(out, nv_, op == Op::Crba ? nv_ * n : n);
+    const Eigen::Index nv = batch_.nv();
+    const auto arg = [&](int k) { return Cols(in[k], k == 0 ? batch_.nq() : nv, n); };
+    Eigen::Map<Eigen::MatrixXd> y(out, nv, op == Op::Crba ? nv * n : n);
     switch (op) {
       case Op::Rnea: return batch_.rnea(arg(0), arg(1), arg(2), y);
       case Op::Gravity: return batch_.gravity(arg(0), y);
@@ -158,10 +158,38 @@ class BatchEngine final : public BatchBase {
     }
     throw std::invalid_argument("Batch: rnea, gravity, bias, aba, forward_dynamics and crba only");
   }
+  void frame(Op op, std::ptrdiff_t count, const double* q, int target, bool body, spatial::ReferenceFrame reference,
+             double* out) override {
+    const auto n = static_cast<Eigen::Index>(count);
+    const Eigen::Index nv = batch_.nv();
+    const Eigen::Map<const Eigen::MatrixXd> Q(q, batch_.nq(), n);
+    // The batch writes column-major blocks per state; NumPy's are row-major: through a buffer, then transposed.
+    if (op == Op::FramePlacement) {
+      buffer_.resize(3, 4 * n);
+      if (body) batch_.body_placement(Q, target, buffer_);
+      else batch_.frame_placement(Q, target, buffer_);
+      for (Eigen::Index j = 0; j < n; ++j) {
+        Eigen::Map<Eigen::Matrix<double, 4, 4, Eigen::RowMajor>> P(out + 16 * j);
+        P.topRows<3>() = buffer_.middleCols<4>(4 * j);
+        P.row(3) << 0, 0, 0, 1;
+      }
+      return;
+    }
+    if (op == Op::FrameJacobian) {
+      buffer_.resize(6, nv * n);
+      if (body) batch_.body_jacobian(Q, target, reference, buffer_);
+      else batch_.frame_jacobian(Q, target, reference, buffer_);
+      for (Eigen::Index j = 0; j < n; ++j)
+        Eigen::Map<Eigen::Matrix<double, 6, Eigen::Dynamic, Eigen::RowMajor>>(out + 6 * nv * j, 6, nv) =
+            buffer_.middleCols(nv * j, nv);
+      return;
+    }
+    throw std::invalid_argument("Batch: frame_placement and frame_jacobian only");
+  }
 
  private:
   BatchT batch_;
-  Eigen::Index nv_, nq_;
+  Eigen::MatrixXd buffer_;  ///< the frame methods' column-major results (grown when a call needs more)
 };
 
 template <class M>

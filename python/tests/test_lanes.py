@@ -22,9 +22,22 @@ def kind_model(key):
 
 
 def methods(b):
-    """name -> (Batch call of (Q, V, X), the functions' call of the same)."""
+    """name -> (Batch call of (Q, V, X), the functions' call of the same). The frame methods on the model's last
+    fixed frame (its Jacobian in 'local') and on its last body (in 'world')."""
     m = b.model
-    return {
+    frames = {}
+    if m.frame_names:
+        f = m.frame_names[-1]
+        frames["frame_placement"] = (lambda Q, V, X: b.frame_placement(Q, f),
+                                     lambda Q, V, X: spatial.frame_placement(m, Q, f))
+        frames["frame_jacobian"] = (lambda Q, V, X: b.frame_jacobian(Q, f, "local"),
+                                    lambda Q, V, X: spatial.frame_jacobian(m, Q, f, "local"))
+    body = m.body_names[-1]
+    frames["body_placement"] = (lambda Q, V, X: b.frame_placement(Q, body),
+                                lambda Q, V, X: spatial.frame_placement(m, Q, body))
+    frames["body_jacobian"] = (lambda Q, V, X: b.frame_jacobian(Q, body, reference="world"),
+                               lambda Q, V, X: spatial.frame_jacobian(m, Q, body, reference="world"))
+    return frames | {
         "rnea": (lambda Q, V, X: b.rnea(Q, V, X), lambda Q, V, X: spatial.rnea(m, Q, V, X)),
         "gravity": (lambda Q, V, X: b.gravity(Q), lambda Q, V, X: spatial.gravity(m, Q)),
         "bias": (lambda Q, V, X: b.bias(Q, V), lambda Q, V, X: spatial.bias(m, Q, V)),
@@ -89,7 +102,8 @@ def test_nan_stays_in_its_state(batch_states):
         clean, dirty = lanes(s.Q, s.V, s.T), lanes(Q, V, T)
         others = np.arange(len(Q)) != k
         assert np.array_equal(dirty[others], clean[others]), f"{key} {name}: a NaN reached another state"
-        if name not in ("gravity", "crba"):  # these read q only, where the NaN may reach no entry
+        if name in ("rnea", "bias", "aba", "forward_dynamics"):  # the others read q only, where the NaN may reach
+            # no entry
             assert not np.all(np.isfinite(dirty[k])), f"{key} {name}: the NaN state came out finite"
 
 
@@ -100,6 +114,10 @@ def test_shapes_and_broadcasting(stance_gen):
     assert b.rnea(s.Q[0], s.V[0], s.A[0]).shape == (m.nv,)
     assert b.crba(s.Q[0]).shape == (m.nv, m.nv)
     assert b.crba(s.Q).shape == (6, m.nv, m.nv)
+    assert b.frame_placement(s.Q[0], 0).shape == (4, 4)
+    assert b.frame_placement(s.Q, 0).shape == (6, 4, 4)
+    assert b.frame_jacobian(s.Q, m.body_names[2]).shape == (6, 6, m.nv)
+    assert np.array_equal(b.frame_placement(s.Q, 0)[:, 3], np.tile([0.0, 0.0, 0.0, 1.0], (6, 1)))
     assert b.rnea(s.Q[:0], s.V[:0], s.A[:0]).shape == (0, m.nv)
     # an (nv,) argument is shared by every state, as for the functions
     shared = b.rnea(s.Q, s.V[1], s.A)
@@ -127,5 +145,11 @@ def test_errors(stance_gen):
     fl = spatial.Batch(get_model("floating_gen"))
     with pytest.raises(ValueError, match=r"Batch\.rnea: argument 'q' has shape \(4, 27\).*nq = 28"):
         fl.rnea(np.zeros((4, 27)), np.zeros((4, 27)), np.zeros((4, 27)))
+    with pytest.raises(KeyError, match=r"Batch\.frame_placement: .*'no_such_frame'"):
+        b.frame_placement(s.Q, "no_such_frame")
+    with pytest.raises(ValueError, match=r"Batch\.frame_jacobian: 'frame' must be a frame or body name"):
+        b.frame_jacobian(s.Q, len(m.frame_names))
+    with pytest.raises(ValueError, match=r"Batch\.frame_jacobian: reference 'body' is not one of"):
+        b.frame_jacobian(s.Q, 0, "body")
     with pytest.raises(ValueError, match="threads"):
         spatial.Batch(m, threads=-1)

@@ -174,6 +174,28 @@ std::vector<BatchCase<MT>> batch_cases(const MT& model) {
       }
     }
   }
+  {
+    // A body's placement and Jacobian (the last body; a body is a frame with the identity on it).
+    const int body = detail::ModelTraits<MT>::tree(model).size() - 1;
+    cases.push_back({"body_placement " + std::to_string(body), 3, 4, 1e-13,
+                     [body](B& b, const M& q, const M&, const M&, Out out) { b.body_placement(q, body, out); },
+                     [body](const MT& m, D& d, const Vec& q, const Vec&, const Vec&) -> M {
+                       forward_kinematics(m, d, q);
+                       if constexpr (B::floating)
+                         return body_pose(m, d, body).matrix().topRows(3);
+                       else
+                         return body_pose(d, body).matrix().topRows(3);
+                     }});
+    cases.push_back({"body_jacobian " + std::to_string(body), 6, n, 1e-13,
+                     [body](B& b, const M& q, const M&, const M&, Out out) {
+                       b.body_jacobian(q, body, ReferenceFrame::World, out);
+                     },
+                     [body, n](const MT& m, D& d, const Vec& q, const Vec&, const Vec&) -> M {
+                       M J = M::Zero(6, n);
+                       compute_body_jacobian(m, d, q, body, ReferenceFrame::World, J);
+                       return J;
+                     }});
+  }
   return cases;
 }
 
