@@ -62,8 +62,9 @@ struct FloatingPinFixture : FloatingPinStates {
     pinocchio::initConstraintDynamics(pm, data_feet, feet_c, feet_d);
     const auto& pool = floating_pool();
     for (int k = 0; k < pool.size(); ++k) {
-      Eigen::VectorXd t = pool.u[static_cast<std::size_t>(k)];
-      t.head(6).setZero();
+      // fixed size: on a VectorXd, head(6).setZero() made g++ 12 warn -Wstringop-overflow (a size it cannot see)
+      Eigen::Matrix<double, FloatingModel<double, Floating27Tree>::NV, 1> t = pool.u[static_cast<std::size_t>(k)];
+      t.head<6>().setZero();
       tau.push_back(peer.to_pinocchio(t, 6));
     }
   }

@@ -93,8 +93,10 @@ MISS_NOTES = {
     ("ABA", "clang"): "the AVX2 kernel's articulated-inertia pass (the rotation of the three 3×3 blocks into the "
                       "parent, 18 matrix–vector products per body) is the bulk; packing the symmetric blocks A and C "
                       "(6 entries each) or transforming them as 6×6 with AVX-512 would take a third of it off.",
-    ("CRBA", None): "the entries H_ij = S⁰ⱼ · F⁰ are one horizontal sum each (146 on stance21); summing four at a time "
-            "with two horizontal adds would take ~15 % of the instructions off.",
+    ("CRBA", None): "perf puts the AVX2 kernel's time in the lane broadcasts and FMAs of its 3×3 products and in the "
+            "146 entries H_ij = S⁰ⱼ · F⁰ (horizontal sums and stores to both triangles, ~15 % together); summing the "
+            "entries four at a time took 3 % of the instructions and no time off, nor did broadcasting from memory "
+            "(scripts/ab.sh, docs/performance.md, 2026-12-07). Untried: writing one triangle of H.",
 }
 
 ALGORITHMS = ["RNEA", "GravityTorques", "BiasForces", "CRBA", "FD_CRBA_LTDL", "FD_CRBA_DenseLLT", "ABA", "FK", "LTDL",
