@@ -66,14 +66,6 @@ struct CentroidalMomentumRate {
 
 namespace detail {
 
-/// A force (angular first) as a linear-first 6-vector.
-template <class S>
-SPATIAL_INLINE Vector6<S> linear_first(const Force<S>& f) {
-  Vector6<S> out;
-  out << f.f, f.n;
-  return out;
-}
-
 /// Mass and first moment of every subtree, in base coordinates, into `data.Ic[i].m` and `.h` (after forward
 /// kinematics). Returns the total over the tree's roots (the root body of a floating model excluded) as an
 /// `Inertia` with only m and h set.

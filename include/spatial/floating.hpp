@@ -229,6 +229,16 @@ Eigen::Quaternion<typename Q::Scalar> root_quaternion(const Eigen::MatrixBase<Q>
 }
 
 namespace detail {
+/// A force (angular first) as a linear-first 6-vector, the free-flyer's order (`root_wrench`'s inverse). By
+/// fixed-size halves: a comma initializer's blocks have run-time sizes (a generic Eigen loop: H⁻¹ on hoap3_floating
+/// took 12.8 % more instructions under clang with it, and g++ 12 warned -Warray-bounds).
+template <class S>
+SPATIAL_INLINE Vector6<S> linear_first(const Force<S>& f) {
+  Vector6<S> out;
+  out.template head<3>() = f.f;
+  out.template tail<3>() = f.n;
+  return out;
+}
 /// The joints' block of a floating-base vector (q: offset 7, v and τ: offset 6); fixed-size for compile-time trees.
 template <int NJ, class Vec>
 auto joint_block(Eigen::MatrixBase<Vec>& x, int offset, int n) {

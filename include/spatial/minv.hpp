@@ -516,10 +516,7 @@ const typename FloatingMinvData<S, T>::Matrix& inverse_inertia_impl(const Floati
   M.template topLeftCorner<6, 6>() = D0inv;
   // Pass 2: tree columns, then the root's rows for them, −D₀⁻¹ f (f linear first).
   minv_second<Simd>(tree, md, 6, [&](int j, const Force<S>& f) {
-    Vector6<S> fl;  // fixed-size halves (a comma initializer's dynamic blocks made g++ 12 warn -Warray-bounds)
-    fl.template head<3>() = f.f;
-    fl.template tail<3>() = f.n;
-    const Vector6<S> x = -(D0inv * fl);
+    const Vector6<S> x = -(D0inv * linear_first(f));
     for (int r = 0; r < 6; ++r) M(6 + j, r) = x[r];
   });
   // Pass 3: the root's accelerations are its rows, i.e. its columns of the lower triangle.
