@@ -3,9 +3,10 @@
 // on one thread and on all hardware threads (Batch's own worker pool).
 //
 // Names: "spatial/<algorithm>_batch/<model>/<scalar>/<tree>/batch:<B>/threads:<T>", algorithm spelled as the
-// single-state records of bench_algorithms (RNEA, GravityTorques, BiasForces, CRBA, FD_CRBA_LTDL, ABA; FK = the
-// forward kinematics and one frame's placement (Batch::frame_placement), ComputeFrameJacobian = one frame's Jacobian
-// in one walk (Batch::frame_jacobian), as bench_floating's). One iteration = one call over B states; tools/report.py
+// single-state records of bench_algorithms (RNEA, GravityTorques, BiasForces, CRBA, FD_CRBA_LTDL, ABA; FK = one
+// frame's placement (Batch::frame_placement: a walk over the frame's chain since 2026-12-07, no longer the whole
+// forward kinematics, so the report sets no single-state figure beside it), ComputeFrameJacobian = one frame's
+// Jacobian in one walk (Batch::frame_jacobian), as bench_floating's). One iteration = one call over B states; tools/report.py
 // divides by B (ns per state). Wall time is the iteration time (UseRealTime: with several threads the main thread's
 // CPU time would count half the work) and the CPU time is the whole process's (MeasureProcessCPUTime).
 // B: 1024 (inputs and τ or q̈ fit in L2; CRBA's H for 1024 states of stance21 is 3.6 MB in double, so CRBA also at

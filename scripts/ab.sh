@@ -13,7 +13,7 @@
 # renamed; #include <spatial/...> lines are not macro-expanded, so the old headers are still found) and
 # -DAB_TAG='"old/"', the new one with -DAB_TAG='"new/"'. SOURCE includes bench/ab.hpp, names its benchmarks
 # AB_TAG "name", keeps its own functions in an anonymous namespace and defines no main (bench/crba_ab.cpp,
-# minv_ab.cpp and derivatives_ab.cpp are such sources). The old revision's include/ and
+# minv_ab.cpp, derivatives_ab.cpp and jacobian_ab.cpp are such sources). The old revision's include/ and
 # src/models/ (the committed copies of the generated models) come from `git archive`; the new build takes the
 # working tree's include/ and the build's generated models (build/src/models/include, else src/models).
 # Flags: -std=c++17 -O3 -march=native -DNDEBUG, as the benchmarks, and -g (line tables for perf: `perf record -e

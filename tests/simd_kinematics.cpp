@@ -156,10 +156,10 @@ TEST(SimdKinematics, RandomTrees) {
 }
 
 // A run-time chain of revolute joints about coordinate axes deeper than the walk's stack arrays
-// (detail::kMaxSimdWalkDepth): the bodies near the tip take the scalar walk, the others the AVX2 walk, and all
+// (detail::kMaxWalkDepth): the bodies near the tip take the scalar walk, the others the AVX2 walk, and all
 // give the scalar twin's Jacobians.
 TEST(SimdKinematics, DeepRuntimeChainTakesTheScalarWalk) {
-  const int n = detail::kMaxSimdWalkDepth + 6;
+  const int n = detail::kMaxWalkDepth + 6;
   std::vector<spatial::testing::RandomBody> bodies = spatial::testing::random_bodies(
       n, spatial::testing::Shape::Chain, 88, false);
   for (int i = 0; i < n; ++i) bodies[std::size_t(i)].type = kAxes[i % 3];

@@ -441,7 +441,10 @@ def build_batch(compilers, time_kind, records):
             pin_ns, pin_wall, _ = per_state(pin_key)
             pin_one_wall = per_state(pin_key[:6] + (1,))[1]
             base = algorithm[:-len("_batch")]
-            single = find(records, compiler=compiler, model=model, algorithm=base, scalar=scalar, tree=tree)
+            # FK_batch places one frame by a walk over its chain (Batch::frame_placement); the single-state FK
+            # record is the whole tree's forward kinematics: not the same work, so no single-state figure beside it.
+            single = None if base == "FK" else find(records, compiler=compiler, model=model, algorithm=base,
+                                                    scalar=scalar, tree=tree)
             err = errors.get((model, algorithm, scalar), (None, None))
             out.append({
                 "compiler": compiler,
@@ -538,7 +541,9 @@ def batch_section(w, batch_records, compilers):
       "(≤ 1e-12 relative in double, ≤ 1e-4 in float). Pinocchio: its batch API (`rneaInParallel`, `abaInParallel`: "
       "an OpenMP loop over its single-state calls, one model and data per thread; bench/bench_pinocchio_batch.cpp "
       "says how it is run; CRBA: the same loop over `crba`, Pinocchio having no batch call for it) on the same "
-      "states and cores. Single state: bench_algorithms' time per call of the same algorithm, model, scalar and tree.")
+      "states and cores. Single state: bench_algorithms' time per call of the same algorithm, model, scalar and tree "
+      "(none for FK_batch, one frame's placement by a walk over its chain, where the single-state FK is the whole "
+      "tree's forward kinematics).")
     w("")
     header, rows = batch_target_rows(batch_records, compilers)
     w(f"Targets ({TARGET_MODEL}, compile-time tree; time per state on one thread, scaling on all threads; every "

@@ -23,10 +23,13 @@
 /// turns it off (here and for the AVX2 kernels' lambdas, SPATIAL_LAMBDA_INLINE): the same code, compiled faster
 /// unoptimised or at -O1, where the forced inlining only makes every unrolled function larger (the test programs
 /// define it).
+/// SPATIAL_LAMBDA_INLINE does the same for a lambda's body (GCC otherwise keeps some per-body lambdas out of line).
 #if (defined(__GNUC__) || defined(__clang__)) && !defined(SPATIAL_NO_FORCED_INLINE)
 #define SPATIAL_INLINE __attribute__((always_inline)) inline
+#define SPATIAL_LAMBDA_INLINE __attribute__((always_inline))
 #else
 #define SPATIAL_INLINE inline
+#define SPATIAL_LAMBDA_INLINE
 #endif
 
 /// Fully unrolls the fixed 3-trip loops of the 3×3 kernels (GCC does not always do it by itself).

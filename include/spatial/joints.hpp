@@ -20,6 +20,7 @@
 #include <cstdint>
 #include <string_view>
 #include <type_traits>
+#include <utility>
 
 namespace spatial {
 
@@ -329,5 +330,18 @@ struct RuntimeJoint {
     return visit([&](const auto& j) { return j.cross_motion(v, qd); });
   }
 };
+
+namespace detail {
+/// f(joint) with the joint's compile-time type: a `RuntimeJoint` switches once on its type (`visit`), so that
+/// several joint operations in f cost one switch instead of one each; a compile-time joint is passed as it is.
+template <class S, class F>
+SPATIAL_INLINE decltype(auto) visit_joint(const RuntimeJoint<S>& j, F&& f) {
+  return j.visit(std::forward<F>(f));
+}
+template <class S, JointType T, class F>
+SPATIAL_INLINE decltype(auto) visit_joint(const Joint<S, T>& j, F&& f) {
+  return f(j);
+}
+}  // namespace detail
 
 }  // namespace spatial

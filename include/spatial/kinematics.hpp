@@ -24,10 +24,12 @@
 ///   subspace of joint j in world coordinates (floating base: columns 0–5 the free-flyer's basis ʳX_w⁻¹ [0; e_k]
 ///   and ʳX_w⁻¹ [e_k; 0], r = the root). Then v_F^World = J v summed over the ancestors of F's body.
 ///   `body_jacobian` / `frame_jacobian` re-express the ancestor columns in a reference frame; `compute_body_jacobian`
-///   / `compute_frame_jacobian` do everything in one walk from the body up to the root (only the ancestors' joint
-///   transforms are computed): Local column ᶠX_j Sⱼ, accumulating ᶠX_λ(j) = ᶠX_j ʲX_λ(j). On the AVX2 path
-///   (simd.hpp's conditions, output a column-major 6-row matrix) the walk instead composes the ancestors'
-///   world transforms from the root down and writes each column straight in the reference frame.
+///   / `compute_frame_jacobian` do everything in one walk over the body's chain (only the ancestors' joint
+///   transforms are computed): their world transforms composed from the root down, ʲX_w = ʲX_λ(j) ᵏX_w, each
+///   column the joint's world motion subspace ʲX_w⁻¹ Sⱼ moved into the reference frame (`jacobian_walk_down`; on
+///   the AVX2 path, simd.hpp's conditions and a column-major 6-row output, `jacobian_walk_simd` writes each column
+///   straight in the reference frame). A run-time chain deeper than kMaxWalkDepth walks from the body up instead:
+///   Local column ᶠX_j Sⱼ, accumulating ᶠX_λ(j) = ᶠX_j ʲX_λ(j).
 ///
 /// ## Velocities and accelerations
 ///   `forward_kinematics(q, v, a)`: transforms, body velocities and **spatial** accelerations (in body
@@ -362,32 +364,126 @@ void jacobian_time_variation_from_world(const K& k, int body, const Transform<ty
   });
 }
 
+/// Deepest chain (bodies from a body up to the base) that the root-first walks (`jacobian_walk_simd`,
+/// `jacobian_walk_down`) serve on a run-time tree (the size of their stack arrays); deeper ones take the body-first
+/// walk of `jacobian_walk`.
+inline constexpr int kMaxWalkDepth = 64;
+
+/// Whether a root-first walk can take body's chain: always on a compile-time tree, and on a run-time tree when the
+/// chain has at most kMaxWalkDepth bodies.
+template <class Tree>
+SPATIAL_INLINE bool walk_fits(const Tree& tree, int body) {
+  if constexpr (Tree::is_static) {
+    return (void)tree, (void)body, true;
+  } else {
+    int n = 0;
+    for (int j = body; j >= 0; j = tree.parent(j))
+      if (++n > kMaxWalkDepth) return false;
+    return true;
+  }
+}
+
+/// A body's chain for the root-first walks: its bodies from the body up (idx[0] = body, idx[n − 1] a root; run-time
+/// trees: at most kMaxWalkDepth, `walk_fits`), their joint positions and, computed together (`sincos_all`
+/// vectorises), their cosines and sines.
+template <class K>
+struct Chain {
+  using S = typename K::Scalar;
+  using Tree = std::decay_t<decltype(std::declval<const K&>().tree)>;
+  static constexpr int NB = Tree::is_static ? Tree::NB : kMaxWalkDepth;
+  std::array<int, NB> idx;
+  std::array<S, NB> qc, cc, sc;
+  int n = 0;
+  template <class Q>
+  SPATIAL_INLINE Chain(const K& k, const Eigen::MatrixBase<Q>& q, int body) {
+    for (int j = body; j >= 0; j = k.tree.parent(j), ++n) {
+      idx[static_cast<std::size_t>(n)] = j;
+      qc[static_cast<std::size_t>(n)] = S(q[K::qoff + j]);
+    }
+    sincos_all<S>(qc, cc, sc, n);
+  }
+};
+
+/// The root-first walk over body's chain (run-time trees: at most kMaxWalkDepth bodies, `walk_fits`): the world
+/// transforms composed from the root down, ⁱX_w = ⁱX_λ ᵏX_w (from the root's ʳX_w = X0: identity for a fixed base),
+/// calling step(i, joint, ⁱX_w) for each of the chain's joints, root first (`joint` with its compile-time type,
+/// `visit_joint`: one dispatch per joint on a run-time type), from the sines and cosines of `Chain`. Returns ᵇX_w
+/// (X0 for body −1).
+template <class K, class Q, class Step>
+SPATIAL_INLINE Transform<typename K::Scalar> chain_world(const K& k, const Eigen::MatrixBase<Q>& q, int body,
+                                                         const Transform<typename K::Scalar>& X0, Step&& step) {
+  using S = typename K::Scalar;
+  const Chain<K> ch(k, q, body);
+  Transform<S> X = X0;
+  for (int t = ch.n - 1; t >= 0; --t) {
+    const auto u = static_cast<std::size_t>(t);
+    const int i = ch.idx[u];
+    visit_joint(k.tree.joint(i), [&](const auto& joint) SPATIAL_LAMBDA_INLINE {
+      X = joint.compose(ch.qc[u], ch.cc[u], ch.sc[u], k.tree.tree_transform(i)) * X;  // ⁱX_w
+      step(i, joint, X);
+    });
+  }
+  return X;
+}
+
+/// ᵇX_w of body `body` (−1: the base, or the root of a floating base) from q by `chain_world`: only the chain's
+/// joint transforms (batch.hpp's placements; `walk_fits` must hold).
+template <class K, class Q>
+SPATIAL_INLINE Transform<typename K::Scalar> chain_placement(const K& k, const Eigen::MatrixBase<Q>& q, int body) {
+  using S = typename K::Scalar;
+  const Transform<S> X0 = K::root_cols > 0 ? root_transform<S>(q) : Transform<S>::Identity();
+  return chain_world(k, q, body, X0, [](int, const auto&, const Transform<S>&) {});
+}
+
+/// The root-first Jacobian walk for any scalar (jacobian_walk's path off AVX2: SIMD lanes of batch.hpp, joints of
+/// any type, float or double without AVX2, automatic differentiation): `chain_world`, each joint's column in world
+/// coordinates, S⁰ᵢ = ⁱX_w⁻¹ Sᵢ (`subspace_inverse`), written to J, then moved into `rf` in place with
+/// ᶠX_w = Xf ᵇX_w (`world_to_frame`). Per joint this is one composition and the cheap world column (six products
+/// for an axis-aligned revolute), where the body-first walk takes a composition, a whole transform of Sᵢ and, for
+/// World or LocalWorldAligned, a rotation of each column at the end. J's other columns are left as they are.
+template <class K, class Q, class Out>
+void jacobian_walk_down(const K& k, const Eigen::MatrixBase<Q>& q, int body, const Transform<typename Out::Scalar>& Xf,
+                        ReferenceFrame rf, Eigen::MatrixBase<Out>& J) {
+  using S = typename Out::Scalar;
+  const Transform<S> X0 = K::root_cols > 0 ? root_transform<S>(q) : Transform<S>::Identity();
+  if constexpr (K::root_cols > 0) {
+    // The free-flyer's unit velocities in the world: root axis c is row c of ʳX_w's E (u); a unit linear
+    // velocity along it moves every point by u, a unit rotation about it through the root's origin r is [u; r × u].
+    for (int c = 0; c < 3; ++c) {
+      const Vector3<S> u(X0.E(c, 0), X0.E(c, 1), X0.E(c, 2));
+      set_jacobian_column(J, c, Motion<S>(Vector3<S>::Zero(), u));
+      set_jacobian_column(J, 3 + c, Motion<S>(u, cross3(X0.r, u)));
+    }
+  }
+  const Transform<S> X = chain_world(k, q, body, X0, [&](int i, const auto& joint, const Transform<S>& Xi) {
+    set_jacobian_column(J, K::root_cols + i, joint.subspace_inverse(Xi));
+  });
+  if (rf == ReferenceFrame::World) return;
+  const Transform<S> Xfw = Xf * X;
+  for_each_ancestor_column(k, body, [&](int c) {
+    set_jacobian_column(J, c, world_to_frame<S>(rf, Xfw, jacobian_column<S>(J, c)));
+  });
+}
+
 #if SPATIAL_SIMD_AVX2
-/// Deepest chain (bodies from a body up to the base) that jacobian_walk_simd serves on a run-time tree (the size of
-/// its stack arrays); deeper ones take the scalar walk.
-inline constexpr int kMaxSimdWalkDepth = 64;
 
 /// jacobian_walk's AVX2 path (a tree of axis-aligned revolute joints, double or float, J a column-major matrix
 /// with 6 rows): the chain's world transforms from the root down (ⁱX_w = ⁱX_λ ᵏX_w, starting from the root's
 /// ⁰X_w = X0, identity for a fixed base), then every column straight in `rf`: a joint with world axis ω through
 /// the point p moves the world origin at p × ω (World) and the frame's origin p_f at ω × (p_f − p)
 /// (LocalWorldAligned; Local rotates that into the frame's axes). On a run-time tree, the caller has checked that
-/// the chain is no deeper than kMaxSimdWalkDepth (`simd_walk_fits`).
+/// the chain is no deeper than kMaxWalkDepth (`walk_fits`).
 template <class K, class Q, class S>
 void jacobian_walk_simd(const K& k, const Eigen::MatrixBase<Q>& q, int body, const Transform<S>& Xf,
                         ReferenceFrame rf, S* J) {
   using namespace simd;
   using V = Vec<S>;
-  using Tree = std::decay_t<decltype(k.tree)>;
-  constexpr int NB = Tree::is_static ? Tree::NB : kMaxSimdWalkDepth;
-  std::array<int, NB> idx;
-  std::array<S, NB> qc, cc, sc;
-  int n = 0;
-  for (int j = body; j >= 0; j = k.tree.parent(j), ++n) {
-    idx[static_cast<std::size_t>(n)] = j;
-    qc[static_cast<std::size_t>(n)] = S(q[K::qoff + j]);
-  }
-  sincos_all<S>(qc, cc, sc, n);
+  constexpr int NB = Chain<K>::NB;
+  const Chain<K> ch(k, q, body);
+  const auto& idx = ch.idx;
+  const auto& cc = ch.cc;
+  const auto& sc = ch.sc;
+  const int n = ch.n;
   const Transform<S> X0 = K::root_cols > 0 ? root_transform<S>(q) : Transform<S>::Identity();
   V col[3], row[3], r;  // the current body's ⁱX_w
   col[0] = load3z(X0.E.data());
@@ -448,19 +544,6 @@ void jacobian_walk_simd(const K& k, const Eigen::MatrixBase<Q>& q, int body, con
   }
 }
 
-/// Whether jacobian_walk_simd can take body's chain: always on a compile-time tree, and on a run-time tree when
-/// the chain has at most kMaxSimdWalkDepth bodies.
-template <class Tree>
-SPATIAL_INLINE bool simd_walk_fits(const Tree& tree, int body) {
-  if constexpr (Tree::is_static) {
-    return (void)tree, (void)body, true;
-  } else {
-    int n = 0;
-    for (int j = body; j >= 0; j = tree.parent(j))
-      if (++n > kMaxSimdWalkDepth) return false;
-    return true;
-  }
-}
 #endif
 
 /// The one-walk Jacobian of the frame ᶠX_body = `Xf` on `body` at configuration q (full q of the model).
@@ -472,13 +555,18 @@ void jacobian_walk(const K& k, const Eigen::MatrixBase<Q>& q, int body, Transfor
 #if SPATIAL_SIMD_AVX2
   using TreeT = typename std::decay_t<decltype(k.tree)>::tree_type;
   if constexpr (simd_candidate<S, TreeT>() && lane_columns<Out>()) {
-    if (lane_columns(J) && simd_applies(k.tree) && simd_walk_fits(k.tree, body)) {
+    if (lane_columns(J) && simd_applies(k.tree) && walk_fits(k.tree, body)) {
       jacobian_walk_simd(k, q, body, X, rf, J.derived().data());
       return;
     }
   }
 #endif
-  // The ancestors' sines and cosines eight at a time (sincos_all vectorises), then the walk over them.
+  if (walk_fits(k.tree, body)) {
+    jacobian_walk_down(k, q, body, X, rf, J);
+    return;
+  }
+  // A chain deeper than kMaxWalkDepth (run-time trees only): from the body up, ᶠX_λ(j) = ᶠX_j ʲX_λ(j), column
+  // ᶠX_j Sⱼ (Local); the ancestors' sines and cosines eight at a time (sincos_all vectorises), then the walk over them.
   constexpr int kChunk = 8;
   std::array<int, kChunk> idx;
   std::array<S, kChunk> qc, cc, sc;

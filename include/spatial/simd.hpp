@@ -93,12 +93,6 @@ bool lane_columns(const Eigen::MatrixBase<M>& x) {
 }
 
 #if SPATIAL_SIMD_AVX2
-/// Forces inlining of a lambda's body into its caller (GCC otherwise keeps some per-body lambdas out of line).
-#ifndef SPATIAL_NO_FORCED_INLINE
-#define SPATIAL_LAMBDA_INLINE __attribute__((always_inline))
-#else
-#define SPATIAL_LAMBDA_INLINE
-#endif
 
 namespace simd {
 
