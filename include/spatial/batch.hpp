@@ -60,6 +60,7 @@
 #include <mutex>
 #include <thread>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace Eigen {
@@ -388,15 +389,9 @@ class BasicBatch {
       const auto& Hl = spatial::crba(model_, w.data, w.q);
       S* const t = staging(w);
       if (put_contiguous(Hl.data(), nv_, nv_, j0, m, t, y)) return;
-      // Another layout: only the entries CRBA writes (i an ancestor of j or j of i) leave the lanes, one by one;
-      // the rest of each state's block is zero (for the 21-DoF stance model, 171 of 441 entries).
-      const std::size_t nnz = h_rows_.size();
-      for (std::size_t k = 0; k < nnz; ++k) Hl(h_rows_[k], h_cols_[k]).store_unaligned(t + k * lanes);
-      for (int l = 0; l < m; ++l) {
-        auto block = y.middleCols(static_cast<Eigen::Index>(j0 + l) * nv_, nv_);
-        block.setZero();
-        for (std::size_t k = 0; k < nnz; ++k) block(h_rows_[k], h_cols_[k]) = t[k * lanes + static_cast<std::size_t>(l)];
-      }
+      // Another layout: only the entries CRBA writes (i an ancestor of j or j of i; for the 21-DoF stance model, 171
+      // of 441).
+      put_entries(Hl, h_rows_.size(), [this](std::size_t k) { return std::pair(h_rows_[k], h_cols_[k]); }, j0, m, t, y);
     });
   }
   /// Placement of fixed frame `frame` (`frames()[frame]`) per state: `T` is 3 × (4·B), state j's [R p] in columns
@@ -507,15 +502,9 @@ class BasicBatch {
       gather(w, j0, m, q);
       detail::jacobian_walk_down(detail::kin(model_, w.data), w.q, body, X, rf, w.J);
       if (put_columns_contiguous(w.J, nc, j0, m, y)) return;
-      S* const t = staging(w);
-      for (int k = 0; k < nc; ++k)
-        for (int r = 0; r < 6; ++r) w.J(r, cols_[static_cast<std::size_t>(k)]).store_aligned(t + (6 * k + r) * lanes);
-      for (int l = 0; l < m; ++l) {
-        auto block = y.middleCols(static_cast<Eigen::Index>(j0 + l) * nv_, nv_);
-        block.setZero();
-        for (int k = 0; k < nc; ++k)
-          for (int r = 0; r < 6; ++r) block(r, cols_[static_cast<std::size_t>(k)]) = t[(6 * k + r) * lanes + l];
-      }
+      put_entries(w.J, 6 * static_cast<std::size_t>(nc),
+                  [this](std::size_t k) { return std::pair(static_cast<int>(k % 6), cols_[k / 6]); }, j0, m,
+                  staging(w), y);
     });
   }
 
@@ -546,6 +535,25 @@ class BasicBatch {
     } else {
       (void)Jl, (void)nc, (void)j0, (void)m, (void)y;
       return false;
+    }
+  }
+
+  /// The outputs of `crba` and `jacobian` in a layout `put_contiguous` / `put_columns_contiguous` do not take: only
+  /// the n entries (row, column) = entry(k) of the lane matrix Ml leave the lanes, one by one, through the staging
+  /// area t; the rest of each state's block (nv columns of y from column (j0 + l)·nv) is zeroed.
+  template <class M, class Entry, class Y>
+  void put_entries(const M& Ml, std::size_t n, Entry entry, int j0, int m, S* t, Eigen::MatrixBase<Y>& y) const {
+    for (std::size_t k = 0; k < n; ++k) {
+      const auto [r, c] = entry(k);
+      Ml(r, c).store_aligned(t + k * lanes);
+    }
+    for (int l = 0; l < m; ++l) {
+      auto block = y.middleCols(static_cast<Eigen::Index>(j0 + l) * nv_, nv_);
+      block.setZero();
+      for (std::size_t k = 0; k < n; ++k) {
+        const auto [r, c] = entry(k);
+        block(r, c) = t[k * lanes + static_cast<std::size_t>(l)];
+      }
     }
   }
 

@@ -1166,7 +1166,7 @@ void frame_derivative_columns(const K& k, int body, const Transform<typename K::
     // ∂a/∂v_b = S_b × (v⁰ − v⁰_root).
     const Motion<S> vr = world_of(-1, k.velocity(-1));
     for (int b = 0; b < 6; ++b) {
-      const Motion<S> s = k.world(-1).apply_inverse(free_flyer_basis<S>(b));
+      const Motion<S> s = free_flyer_world_column(k.world(-1), b);
       put(out.v_dq, b, cross(s, v0), s, &v0, &vf);
       put(out.v_dv, b, s, s, nullptr, nullptr);
       put(out.a_dq, b, cross(s, a0), s, &a0, &af);

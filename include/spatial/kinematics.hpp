@@ -130,6 +130,16 @@ SPATIAL_INLINE Motion<S> free_flyer_basis(int k) {
   return m;
 }
 
+/// The free-flyer's k-th velocity coordinate in world coordinates, ʳX_w⁻¹ free_flyer_basis(k) with X0 = ʳX_w: root
+/// axis k mod 3 in the world is u = row k mod 3 of X0's E; a unit linear velocity along it moves every point by u, a
+/// unit rotation about it through the root's origin r is [u; r × u].
+template <class S>
+SPATIAL_INLINE Motion<S> free_flyer_world_column(const Transform<S>& X0, int k) {
+  const int a = k % 3;
+  const Vector3<S> u(X0.E(a, 0), X0.E(a, 1), X0.E(a, 2));
+  return k < 3 ? Motion<S>(Vector3<S>::Zero(), u) : Motion<S>(u, cross3(X0.r, u));
+}
+
 /// What the kinematics functions need from a fixed-base model and its data (`D`: Data or const Data).
 template <class S, class T, class D>
 struct FixedKin {
@@ -219,7 +229,7 @@ void joint_jacobian_columns(const K& k) {
   if constexpr (K::root_cols > 0) {
     const Motion<S> v0 = X0.apply_inverse(k.data.v0);
     for (int c = 0; c < 6; ++c) {
-      const Motion<S> s = X0.apply_inverse(free_flyer_basis<S>(c));
+      const Motion<S> s = free_flyer_world_column(X0, c);
       set_jacobian_column(J, c, s);
       if constexpr (Dot) set_jacobian_column(k.data.dJ, c, cross(v0, s));
     }
@@ -446,15 +456,8 @@ void jacobian_walk_down(const K& k, const Eigen::MatrixBase<Q>& q, int body, con
                         ReferenceFrame rf, Eigen::MatrixBase<Out>& J) {
   using S = typename Out::Scalar;
   const Transform<S> X0 = K::root_cols > 0 ? root_transform<S>(q) : Transform<S>::Identity();
-  if constexpr (K::root_cols > 0) {
-    // The free-flyer's unit velocities in the world: root axis c is row c of ʳX_w's E (u); a unit linear
-    // velocity along it moves every point by u, a unit rotation about it through the root's origin r is [u; r × u].
-    for (int c = 0; c < 3; ++c) {
-      const Vector3<S> u(X0.E(c, 0), X0.E(c, 1), X0.E(c, 2));
-      set_jacobian_column(J, c, Motion<S>(Vector3<S>::Zero(), u));
-      set_jacobian_column(J, 3 + c, Motion<S>(u, cross3(X0.r, u)));
-    }
-  }
+  if constexpr (K::root_cols > 0)
+    for (int c = 0; c < 6; ++c) set_jacobian_column(J, c, free_flyer_world_column(X0, c));
   const Transform<S> X = chain_world(k, q, body, X0, [&](int i, const auto& joint, const Transform<S>& Xi) {
     set_jacobian_column(J, K::root_cols + i, joint.subspace_inverse(Xi));
   });
