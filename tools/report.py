@@ -181,46 +181,53 @@ def batch_key(parts):
     return tuple(parts[:5]) + (int(b.group(1)), int(t.group(1)))
 
 
-def read_benchmark_file(path, time_kind):
+def read_benchmark_files(paths, time_kind):
     """Returns (context, {(impl, algorithm, model, scalar, tree): ns}, {batch key: {"cpu": ns, "real": ns}}) with the
-    times per call (per batch for the batched benchmarks, see batch_key)."""
-    with open(path) as f:
-        data = json.load(f)
+    times per call (per batch for the batched benchmarks, see batch_key) of one binary, from the JSON files of its
+    runs (one for scripts/main.sh; one per run for tools/ratio_spread.py, which runs a binary several times). Each
+    run gives a benchmark one sample (the median aggregate of its repetitions) or several (its single repetitions,
+    when it reports no aggregates); a benchmark's time is the median of its samples over all runs (the upper one of
+    an even count). The context is the first file's."""
     key_time = "cpu_time" if time_kind == "cpu" else "real_time"
-    medians, singles = {}, {}
-    batch_medians, batch_singles = {}, {}
-    for b in data.get("benchmarks", []):
-        run_name = b.get("run_name", b["name"])
-        parts = run_name.split("/")
-        if len(parts) < 5:
-            continue
-        bkey = batch_key(parts)
-        if bkey:
-            unit = b.get("time_unit", "ns")
-            both = {"cpu": to_ns(b["cpu_time"], unit), "real": to_ns(b["real_time"], unit)}
+    context = None
+    samples, batch_samples = {}, {}
+    for path in paths:
+        with open(path) as f:
+            data = json.load(f)
+        if context is None:
+            context = data.get("context", {})
+        medians, singles = {}, {}
+        batch_medians, batch_singles = {}, {}
+        for b in data.get("benchmarks", []):
+            run_name = b.get("run_name", b["name"])
+            parts = run_name.split("/")
+            if len(parts) < 5:
+                continue
+            bkey = batch_key(parts)
+            if bkey:
+                unit = b.get("time_unit", "ns")
+                both = {"cpu": to_ns(b["cpu_time"], unit), "real": to_ns(b["real_time"], unit)}
+                if b.get("run_type") == "aggregate":
+                    if b.get("aggregate_name") == "median":
+                        batch_medians[bkey] = [both]
+                else:
+                    batch_singles.setdefault(bkey, []).append(both)
+                continue
+            key = tuple(parts[:5])
+            ns = to_ns(b[key_time], b.get("time_unit", "ns"))
             if b.get("run_type") == "aggregate":
                 if b.get("aggregate_name") == "median":
-                    batch_medians[bkey] = both
+                    medians[key] = [ns]
             else:
-                batch_singles.setdefault(bkey, []).append(both)
-            continue
-        key = tuple(parts[:5])
-        ns = to_ns(b[key_time], b.get("time_unit", "ns"))
-        if b.get("run_type") == "aggregate":
-            if b.get("aggregate_name") == "median":
-                medians[key] = ns
-        else:
-            singles.setdefault(key, []).append(ns)
-    times = dict(medians)
-    for key, values in singles.items():
-        if key not in times:
-            values = sorted(values)
-            times[key] = values[len(values) // 2]
-    batch_times = dict(batch_medians)
-    for key, values in batch_singles.items():
-        if key not in batch_times:
-            batch_times[key] = {k: sorted(v[k] for v in values)[len(values) // 2] for k in ("cpu", "real")}
-    return data.get("context", {}), times, batch_times
+                singles.setdefault(key, []).append(ns)
+        for key, values in {**singles, **medians}.items():
+            samples.setdefault(key, []).extend(values)
+        for key, values in {**batch_singles, **batch_medians}.items():
+            batch_samples.setdefault(key, []).extend(values)
+    times = {key: sorted(values)[len(values) // 2] for key, values in samples.items()}
+    batch_times = {key: {k: sorted(v[k] for v in values)[len(values) // 2] for k in ("cpu", "real")}
+                   for key, values in batch_samples.items()}
+    return context or {}, times, batch_times
 
 
 def read_inputs(input_dir, time_kind):
@@ -241,7 +248,7 @@ def read_inputs(input_dir, time_kind):
                     with open(path) as f:
                         entry["error"] = json.load(f)
                 else:
-                    context, times, batch_times = read_benchmark_file(path, time_kind)
+                    context, times, batch_times = read_benchmark_files([path], time_kind)
                     entry["contexts"][name[:-5]] = context
                     entry["times"].update(times)
                     entry["batch_times"].update(batch_times)
