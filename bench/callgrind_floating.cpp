@@ -1,5 +1,6 @@
 // Instruction counts of the floating-base algorithms on hoap3_floating (floating27) under callgrind, next to the
-// same tree with a fixed base (do_f*: floating, do_t*: the tree alone; do_fag: the centroidal momentum matrix).
+// same tree with a fixed base (do_f*: floating, do_t*: the tree alone; do_fag: the centroidal momentum matrix; do_fjj:
+// every joint's Jacobian, compute_joint_jacobians).
 // docs/performance.md, "Floating base".
 //   g++|clang++ -std=c++17 -O3 -march=x86-64-v3 -g -DNDEBUG -Iinclude -Ibuild/src/models/include
 //     -isystem /usr/include/eigen3 bench/callgrind_floating.cpp -o /tmp/cgf
@@ -26,6 +27,7 @@ __attribute__((noinline)) void do_ffd(const FM& m, FD& d, const VQ& q, const VV&
 __attribute__((noinline)) void do_fag(const FM& m, FD& d, const VQ& q, Eigen::Matrix<double, 6, 27>& A) {
   centroidal_momentum_matrix(m, d, q, A);
 }
+__attribute__((noinline)) void do_fjj(const FM& m, FD& d, const VQ& q) { compute_joint_jacobians(m, d, q); }
 __attribute__((noinline)) void do_tfd(const FM& m, FD& d, const VJ& q, const VJ& v) { forward_dynamics_crba(m.tree(), d.tree, q, v, v); }
 int main(int argc, char** argv) {
   const int n = argc > 1 ? std::atoi(argv[1]) : 1000;
@@ -44,6 +46,7 @@ int main(int argc, char** argv) {
     do_frnea(m, d, q, v); s += d.tau[0]; do_trnea(m, d, qj, vj); s += d.tree.tau[0];
     do_faba(m, d, q, v); s += d.qdd[0]; do_taba(m, d, qj, vj); s += d.tree.qdd[0];
     do_ffd(m, d, q, v); s += d.qdd[0]; do_tfd(m, d, qj, vj); s += d.tree.qdd[0];
-    do_fag(m, d, q, A); s += A.sum(); }
+    do_fag(m, d, q, A); s += A.sum();
+    do_fjj(m, d, q); s += d.J(3, 2); }
   std::printf("%g\n", s);
 }

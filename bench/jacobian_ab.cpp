@@ -1,5 +1,6 @@
-// One frame's Jacobian in one walk (the left sole, LocalWorldAligned) and its placement, for scripts/ab.sh: old
-// against new headers in one process, interleaved.
+// One frame's Jacobian in one walk (the left sole, LocalWorldAligned) and its placement, and the same Jacobian taken
+// from the joint Jacobians (LocalWorldAligned and Local), for scripts/ab.sh: old against new headers in one process,
+// interleaved.
 //   bash scripts/ab.sh HEAD bench/jacobian_ab.cpp                 # g++
 //   bash scripts/ab.sh --cxx clang++ HEAD bench/jacobian_ab.cpp
 // Batched (`Batch::frame_jacobian`, 256 states per call, one thread; time per call) on stance21 in double and float
@@ -78,8 +79,40 @@ void single_floating27(benchmark::State& st) {
     benchmark::ClobberMemory();
   }
 }
+/// The left sole's Jacobian from the joint Jacobians (`frame_jacobian` after `compute_joint_jacobians` at one state,
+/// bench_floating's FrameJacobian), in rf, on floating27 or stance21.
+template <bool Floating>
+void from_joint_jacobians(benchmark::State& st, ReferenceFrame rf) {
+  const auto run = [&](const auto& m, auto& d, const auto& q, int f, Eigen::MatrixXd& J) {
+    compute_joint_jacobians(m, d, q);
+    for (auto _ : st) {
+      frame_jacobian(m, d, f, rf, J);
+      benchmark::DoNotOptimize(J.data());
+      benchmark::ClobberMemory();
+    }
+  };
+  if constexpr (Floating) {
+    const auto m = F::floating_model<double>();
+    FloatingData<double, F::Tree> d(m);
+    Eigen::MatrixXd J(6, 27);
+    run(m, d, floating_states(m).col(0), F::frame_index("L_SOLE"), J);
+  } else {
+    const auto& m = M::model();
+    Data<double, M::Tree> d(m);
+    Eigen::MatrixXd J(6, 21);
+    run(m, d, Eigen::VectorXd::Constant(21, 0.3), M::frame_index("L_SOLE"), J);
+  }
+}
+template <bool Floating>
+void from_joint_jacobians_lwa(benchmark::State& st) {
+  from_joint_jacobians<Floating>(st, ReferenceFrame::LocalWorldAligned);
+}
+void from_joint_jacobians_local(benchmark::State& st) { from_joint_jacobians<true>(st, ReferenceFrame::Local); }
 }  // namespace
 
+BENCHMARK(from_joint_jacobians_lwa<true>)->Name(AB_TAG "FrameJacobian_LWA/floating27/double");
+BENCHMARK(from_joint_jacobians_local)->Name(AB_TAG "FrameJacobian_Local/floating27/double");
+BENCHMARK(from_joint_jacobians_lwa<false>)->Name(AB_TAG "FrameJacobian_LWA/stance21/double");
 BENCHMARK(stance21<double, true>)->Name(AB_TAG "ComputeFrameJacobian_batch256/stance21/double");
 BENCHMARK(stance21<float, true>)->Name(AB_TAG "ComputeFrameJacobian_batch256/stance21/float");
 BENCHMARK(floating27<true>)->Name(AB_TAG "ComputeFrameJacobian_batch256/floating27/double");
