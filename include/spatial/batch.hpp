@@ -495,8 +495,8 @@ class BasicBatch {
       return;
     }
     int nc = 0;
-    for (int c = 0; c < Traits::voff; ++c) cols_[static_cast<std::size_t>(nc++)] = c;
-    for (int j = body; j >= 0; j = tree.parent(j)) cols_[static_cast<std::size_t>(nc++)] = Traits::voff + j;
+    detail::for_each_ancestor_column(detail::kin(model_, work_.front().data), body,
+                                     [&](int c) { cols_[static_cast<std::size_t>(nc++)] = c; });
     auto& y = const_cast<Eigen::MatrixBase<Out>&>(J);
     each(q.cols(), [&](Work& w, int j0, int m) {
       gather(w, j0, m, q);

@@ -414,6 +414,13 @@ struct Chain {
   }
 };
 
+/// Where the root-first walks start, ʳX_w: the root's pose from q on a floating base, identity on a fixed one.
+template <class K, class S, class Q>
+SPATIAL_INLINE Transform<S> walk_root(const Eigen::MatrixBase<Q>& q) {
+  if constexpr (K::root_cols > 0) return root_transform<S>(q);
+  else return (void)q, Transform<S>::Identity();
+}
+
 /// The root-first walk over body's chain (run-time trees: at most kMaxWalkDepth bodies, `walk_fits`): the world
 /// transforms composed from the root down, ⁱX_w = ⁱX_λ ᵏX_w (from the root's ʳX_w = X0: identity for a fixed base),
 /// calling step(i, joint, ⁱX_w) for each of the chain's joints, root first (`joint` with its compile-time type,
@@ -441,7 +448,7 @@ SPATIAL_INLINE Transform<typename K::Scalar> chain_world(const K& k, const Eigen
 template <class K, class Q>
 SPATIAL_INLINE Transform<typename K::Scalar> chain_placement(const K& k, const Eigen::MatrixBase<Q>& q, int body) {
   using S = typename K::Scalar;
-  const Transform<S> X0 = K::root_cols > 0 ? root_transform<S>(q) : Transform<S>::Identity();
+  const Transform<S> X0 = walk_root<K, S>(q);
   return chain_world(k, q, body, X0, [](int, const auto&, const Transform<S>&) {});
 }
 
@@ -455,7 +462,7 @@ template <class K, class Q, class Out>
 void jacobian_walk_down(const K& k, const Eigen::MatrixBase<Q>& q, int body, const Transform<typename Out::Scalar>& Xf,
                         ReferenceFrame rf, Eigen::MatrixBase<Out>& J) {
   using S = typename Out::Scalar;
-  const Transform<S> X0 = K::root_cols > 0 ? root_transform<S>(q) : Transform<S>::Identity();
+  const Transform<S> X0 = walk_root<K, S>(q);
   if constexpr (K::root_cols > 0)
     for (int c = 0; c < 6; ++c) set_jacobian_column(J, c, free_flyer_world_column(X0, c));
   const Transform<S> X = chain_world(k, q, body, X0, [&](int i, const auto& joint, const Transform<S>& Xi) {
@@ -487,7 +494,7 @@ void jacobian_walk_simd(const K& k, const Eigen::MatrixBase<Q>& q, int body, con
   const auto& cc = ch.cc;
   const auto& sc = ch.sc;
   const int n = ch.n;
-  const Transform<S> X0 = K::root_cols > 0 ? root_transform<S>(q) : Transform<S>::Identity();
+  const Transform<S> X0 = walk_root<K, S>(q);
   V col[3], row[3], r;  // the current body's ⁱX_w
   col[0] = load3z(X0.E.data());
   col[1] = load3z(X0.E.data() + 3);
