@@ -196,6 +196,53 @@ TEST(NoMalloc, RunTimeModel) {
   EXPECT_TRUE(std::isfinite(sum));
 }
 
+// A tree with spherical joints and a free-flyer under its root (general.hpp): every algorithm there, twice.
+TEST(NoMalloc, GeneralModelWithSphericalJoints) {
+  const auto bodies = spatial::testing::random_bodies(9, spatial::testing::Shape::Branched, 8);
+  GeneralModel<double> model;
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    const auto& r = bodies[i];
+    const GeneralJoint<double> j = i == 0   ? GeneralJoint<double>::free_flyer()
+                                   : i % 3 == 1 ? GeneralJoint<double>::spherical()
+                                                : GeneralJoint<double>::one_dof(r.type, r.axis);
+    model.add_body(r.parent, j, r.X_tree, Inertia<double>::from_com(r.mass, r.com, r.inertia_com),
+                   "joint" + std::to_string(i), "body" + std::to_string(i));
+  }
+  GeneralData<double> d(model);
+  std::mt19937 rng(2);
+  const Vec lo = Vec::Constant(model.nq(), -1.0), hi = Vec::Constant(model.nq(), 1.0);
+  const Vec q = random_configuration(model, lo, hi, rng);
+  const int nv = model.nv();
+  const Vec v = spatial::testing::random_vector(nv, rng), a = spatial::testing::random_vector(nv, rng),
+            tau = spatial::testing::random_vector(nv, rng);
+  std::vector<Force<double>> fext(bodies.size(), Force<double>(V3(1, 2, 3), V3(-1, 0.5, 2)));
+  Vec q1(model.nq()), dv(nv);
+  Eigen::MatrixXd Jb(6, nv), Jc(3, nv);
+  double sum = 0;
+  long news = 0;
+  {
+    NoAllocationRegion guard;
+    for (int rep = 0; rep < 2; ++rep) {
+      sum += rnea(model, d, q, v, a).sum() + rnea(model, d, q, v, a, fext, ForceFrame::Base).sum();
+      sum += bias_forces(model, d, q, v).sum() + gravity_torques(model, d, q).sum();
+      sum += crba(model, d, q).sum();
+      sum += aba(model, d, q, v, tau).sum() + aba(model, d, q, v, tau, fext).sum();
+      forward_kinematics(model, d, q, v);
+      body_jacobian(model, d, 8, ReferenceFrame::LocalWorldAligned, Jb);
+      sum += Jb.sum() + kinetic_energy(model, d) + potential_energy(model, d) + center_of_mass(model, d).sum();
+      com_jacobian(model, d, Jc);
+      sum += Jc.sum();
+      integrate(model, q, v, 0.01, q1);
+      difference(model, q, q1, dv);
+      sum += dv.sum();
+    }
+    news = guard.new_calls();
+  }
+  g_sink = sum;
+  EXPECT_EQ(news, 0) << "operator new was called inside the algorithms";
+  EXPECT_TRUE(std::isfinite(sum));
+}
+
 using Tree8 = Tree<Parents<-1, 0, 1, 1, 0, 4, 5, 2>,
                    Joints<J::RevoluteX, J::RevoluteY, J::RevoluteZ, J::RevoluteAxis, J::PrismaticX, J::PrismaticY,
                           J::PrismaticZ, J::PrismaticAxis>>;

@@ -68,6 +68,7 @@ TARGETS = [
 # Performance targets of issue 11 (floating base): on floating27 (the HOAP-3 free-flying at the pelvis, nv = 27) in
 # double, spatial's compile-time tree against Pinocchio's free-flyer model of the same robot, same compiler and run.
 FLOATING_MODEL = "floating27"
+GENERAL_MODEL = "ball38"  # bench_general: spherical joints (general.hpp)
 FLOATING_TARGETS = [
     ("floating RNEA vs Pinocchio rnea", "RNEA", "pinocchio", "RNEA", 0.5),
     ("floating CRBA vs Pinocchio crba", "CRBA", "pinocchio", "CRBA", 0.5),
@@ -1126,6 +1127,38 @@ def python_section(w, out_dir):
         w("")
 
 
+def general_section(w, records, compiler_list):
+    """Trees with multi-DoF joints (general.hpp, bench_general): ball38 against Pinocchio, and the general tree on the
+    one-DoF models beside their run-time trees and Pinocchio."""
+    general = [r for r in records if r["tree"] == "general"]
+    if not general:
+        return
+    w("## Spherical joints (issue 11): trees of multi-DoF joints")
+    w("")
+    w(f"`GeneralModel` (general.hpp): spherical joints and free-flyers anywhere in a run-time tree, scalar code. "
+      f"{GENERAL_MODEL} is a humanoid whose hips, ankles, shoulders, wrists and neck are spherical joints (free-flyer "
+      "pelvis; nq = 48, nv = 38), against Pinocchio's model of the same numbers (`JointModelSpherical`; bench_general "
+      "checks τ, H and v̇ against ours before timing). On the HOAP-3 models the general tree is timed beside the "
+      "run-time tree of the one-DoF code (its AVX2 kernels where the joints allow) and Pinocchio, to show what the "
+      "generality costs where it is not needed.")
+    w("")
+    rows = []
+    for model in (GENERAL_MODEL, TARGET_MODEL, FLOATING_MODEL):
+        for algorithm in ("RNEA", "CRBA", "ABA"):
+            for c in compiler_list:
+                g = find(general, compiler=c, model=model, algorithm=algorithm, scalar="double")
+                if not g:
+                    continue
+                rt = find(records, compiler=c, model=model, algorithm=algorithm, scalar="double", tree="runtime")
+                pin = g["pinocchio_ns"]
+                rows.append([model, algorithm, c, fmt_ns(g["ns"]), fmt_ns(rt["ns"]) if rt else "–",
+                             fmt_ratio(ratio(g["ns"], rt["ns"] if rt else None)), fmt_ns(pin) if pin else "–",
+                             fmt_ratio(ratio(g["ns"], pin))])
+    w(md_table(["model", "algorithm", "compiler", "general tree", "run-time tree (one-DoF code)",
+                "general ÷ run-time", "Pinocchio", "general ÷ Pinocchio"], rows))
+    w("")
+
+
 def write_report(out_dir, compilers, records, time_kind, charts_enabled=True, scenes_dir=None):
     os.makedirs(out_dir, exist_ok=True)
     notes = []
@@ -1244,6 +1277,8 @@ def write_report(out_dir, compilers, records, time_kind, charts_enabled=True, sc
           ", ".join(f"{fmt_ns(r['ns'])} ({100.0 * r['ns'] / 2e6:.2f} % of the 2 ms period) with {c}" for c, r in walk) +
           " on one core.")
         w("")
+
+    general_section(w, records, compiler_list)
 
     w("## Derivatives (issue 13)")
     w("")

@@ -191,4 +191,34 @@ FloatingPinocchioPeer<S> make_pinocchio_floating_peer(const FloatingModel<S, Tre
   return peer;
 }
 
+/// A `GeneralModel` (general.hpp) as a Pinocchio model, joint for joint: spherical → `JointModelSpherical`,
+/// free-flyer → `JointModelFreeFlyer`, one-DoF joints as above. Their q, v and τ are ours entry for entry (the same
+/// quaternion order, body-frame velocities) when the bodies are in depth-first order, which this requires (a
+/// subtree's coordinates contiguous): it returns an empty model otherwise.
+template <class S>
+pinocchio::ModelTpl<S> make_pinocchio_general(const GeneralModel<S>& m) {
+  using Collection = pinocchio::JointCollectionDefaultTpl<S>;
+  pinocchio::ModelTpl<S> pm;
+  pm.gravity = pinocchio::MotionTpl<S>(m.gravity(), Vector3<S>::Zero());
+  std::vector<int> stack;  // the current root-to-leaf path: each body's parent must be on it
+  for (int i = 0; i < m.size(); ++i) {
+    while (!stack.empty() && stack.back() != m.parent(i)) stack.pop_back();
+    if (m.parent(i) >= 0 && stack.empty()) return pinocchio::ModelTpl<S>();
+    stack.push_back(i);
+    const Transform<S>& XT = m.tree_transform(i);
+    const pinocchio::SE3Tpl<S> placement(Matrix3<S>(XT.E.transpose()), XT.r);
+    const GeneralJoint<S>& j = m.joint(i);
+    const pinocchio::JointModelTpl<S> joint =
+        j.kind == GeneralJointKind::Spherical   ? pinocchio::JointModelTpl<S>(typename Collection::JointModelSpherical())
+        : j.kind == GeneralJointKind::FreeFlyer ? pinocchio::JointModelTpl<S>(typename Collection::JointModelFreeFlyer())
+                                                : pinocchio_joint<S>(j.type, j.axis);
+    const auto id = pm.addJoint(pinocchio::JointIndex(m.parent(i) + 1), joint, placement, m.joint_name(i));
+    const Inertia<S>& I = m.inertia(i);
+    const Vector3<S> c = I.m > S(0) ? Vector3<S>(I.h / I.m) : Vector3<S>::Zero();
+    const Matrix3<S> Ic = I.m > S(0) ? I.inertia_com() : I.I;
+    pm.appendBodyToJoint(id, pinocchio::InertiaTpl<S>(I.m, c, Ic), pinocchio::SE3Tpl<S>::Identity());
+  }
+  return pm;
+}
+
 }  // namespace spatial::peers

@@ -316,6 +316,114 @@ void exp_coefficients(S th2, S& a, S& b, S& c) {
     c = (th - s) / (th2 * th);
   }
 }
+
+/// exp(ω̂) as a unit quaternion: (cos θ/2, sin(θ/2)/θ · ω) with θ = |ω|, sin(θ/2)/θ = a(θ/2) / 2.
+template <class S>
+Eigen::Quaternion<S> quaternion_exp(const Vector3<S>& w) {
+  S ah, bh, ch;
+  exp_coefficients(w.squaredNorm() / S(4), ah, bh, ch);
+  using std::cos;
+  using std::sqrt;
+  // cos(θ/2); for AD scalars as 1 − (θ/2)² b(θ/2), smooth in θ² (cos √θ² has no derivative at θ = 0).
+  S ch2;
+  if constexpr (is_builtin_float_v<S>) ch2 = cos(sqrt(w.squaredNorm()) / S(2));
+  else ch2 = S(1) - w.squaredNorm() / S(4) * bh;
+  return Eigen::Quaternion<S>(ch2, ah / S(2) * w[0], ah / S(2) * w[1], ah / S(2) * w[2]);
+}
+
+/// The rotation vector ω (in r0's axes) with r0 exp(ω̂) = r1, the shorter of the two quaternion paths; r0 and r1
+/// are normalised first.
+template <class S>
+Vector3<S> quaternion_log_between(const Eigen::Quaternion<S>& q0, const Eigen::Quaternion<S>& q1) {
+  using std::atan2;
+  const Eigen::Quaternion<S> r0 = q0.normalized();
+  const Eigen::Quaternion<S> r1 = q1.normalized();
+  Eigen::Quaternion<S> d = r0.conjugate() * r1;
+  if (d.w() < S(0)) d.coeffs() = -d.coeffs();
+  const Vector3<S> xyz = d.vec();
+  // ω = θ · axis with θ = 2 atan2(|xyz|, w): the factor θ / |xyz|, by its series for small angles. For AD scalars
+  // the series is taken in |xyz|² (|xyz| = √|xyz|² has no derivative at 0) with one more term.
+  S k;
+  if constexpr (is_builtin_float_v<S>) {
+    const S sn = xyz.norm();
+    k = sn < S(1e-6) ? S(2) / d.w() * (S(1) - sn * sn / (S(3) * d.w() * d.w())) : S(2) * atan2(sn, d.w()) / sn;
+  } else {
+    using std::sqrt;
+    const S sn2 = xyz.squaredNorm();
+    const S x2 = sn2 / (d.w() * d.w());  // tan²(θ/2); atan(x)/x = 1 − x²/3 + x⁴/5 − …
+    k = sn2 < S(1e-12) ? S(2) / d.w() * (S(1) - x2 / S(3) * (S(1) - S(3) * x2 / S(5)))
+                       : S(2) * atan2(sqrt(sn2), d.w()) / sqrt(sn2);
+  }
+  return k * xyz;
+}
+
+/// A free-flyer's q ⊕ v dt on its own entries (q, out: 7 = position, quaternion (x, y, z, w); v: 6 = body linear
+/// and angular velocity): (R, p) ← (R exp(ω̂ dt), p + R V(ω dt) v dt), V the SE(3) left Jacobian; the quaternion
+/// is renormalised. `out` may be `q`.
+template <class S, class Q, class V, class Out>
+void free_flyer_integrate(const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<V>& v, S dt,
+                          const Eigen::MatrixBase<Out>& out_) {
+  auto& out = const_cast<Eigen::MatrixBase<Out>&>(out_);
+  const Vector3<S> w = Vector3<S>(S(v[3]), S(v[4]), S(v[5])) * dt;
+  const Vector3<S> u = Vector3<S>(S(v[0]), S(v[1]), S(v[2])) * dt;
+  S a, b, c;
+  exp_coefficients(w.squaredNorm(), a, b, c);
+  const Vector3<S> wxu = w.cross(u);
+  const Vector3<S> dp = u + b * wxu + c * w.cross(wxu);  // V(ω) u
+  const Eigen::Quaternion<S> dq = quaternion_exp(w);
+  const Eigen::Quaternion<S> q0 = Eigen::Quaternion<S>(S(q[6]), S(q[3]), S(q[4]), S(q[5]));
+  const Vector3<S> p0 = Vector3<S>(S(q[0]), S(q[1]), S(q[2]));
+  const Vector3<S> p1 = p0 + q0 * dp;
+  Eigen::Quaternion<S> q1 = q0 * dq;
+  q1.normalize();
+  out[0] = p1[0], out[1] = p1[1], out[2] = p1[2];
+  out[3] = q1.x(), out[4] = q1.y(), out[5] = q1.z(), out[6] = q1.w();
+}
+
+/// A free-flyer's q₁ ⊖ q₀ on its own entries (7, 7 → 6): the logarithm of the relative pose, in q₀'s body
+/// coordinates (linear first).
+template <class S, class Q0, class Q1, class Out>
+void free_flyer_difference(const Eigen::MatrixBase<Q0>& q0, const Eigen::MatrixBase<Q1>& q1,
+                           const Eigen::MatrixBase<Out>& out_) {
+  auto& out = const_cast<Eigen::MatrixBase<Out>&>(out_);
+  const Eigen::Quaternion<S> r0 = Eigen::Quaternion<S>(S(q0[6]), S(q0[3]), S(q0[4]), S(q0[5]));
+  const Eigen::Quaternion<S> r1 = Eigen::Quaternion<S>(S(q1[6]), S(q1[3]), S(q1[4]), S(q1[5]));
+  const Vector3<S> w = quaternion_log_between(r0, r1);
+  const Vector3<S> dp = r0.normalized().conjugate() * Vector3<S>(S(q1[0] - q0[0]), S(q1[1] - q0[1]), S(q1[2] - q0[2]));
+  // u = V(ω)⁻¹ dp, V⁻¹ = 1 − ½ ω̂ + e ω̂², e = (1 − θ sin θ / (2 (1 − cos θ))) / θ² (series: 1/12 + θ²/720).
+  const S th2 = w.squaredNorm();
+  S e;
+  if (th2 < S(1e-4)) {
+    if constexpr (is_builtin_float_v<S>) e = S(1) / S(12) + th2 / S(720);
+    else e = S(1) / S(12) + th2 / S(720) * (S(1) + th2 / S(42));  // + θ⁴/30240
+  } else {
+    using std::cos;
+    using std::sin;
+    using std::sqrt;
+    const S th = sqrt(th2);
+    e = (S(1) - th * sin(th) / (S(2) * (S(1) - cos(th)))) / th2;
+  }
+  const Vector3<S> wxp = w.cross(dp);
+  const Vector3<S> u = dp - wxp / S(2) + e * w.cross(wxp);
+  out[0] = u[0], out[1] = u[1], out[2] = u[2];
+  out[3] = w[0], out[4] = w[1], out[5] = w[2];
+}
+
+/// A rotation drawn uniformly (Shoemake's method) as quaternion coefficients (x, y, z, w) written to out[0 … 3].
+template <class S, class Out, class Rng>
+void random_unit_quaternion(Rng& rng, Out&& out) {
+  using std::cos;
+  using std::sin;
+  using std::sqrt;
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const S u1 = S(unit(rng)), u2 = S(unit(rng)), u3 = S(unit(rng));
+  const S two_pi = S(2) * S(EIGEN_PI);
+  const S a = sqrt(S(1) - u1), b = sqrt(u1);
+  out[0] = a * sin(two_pi * u2);
+  out[1] = a * cos(two_pi * u2);
+  out[2] = b * sin(two_pi * u3);
+  out[3] = b * cos(two_pi * u3);
+}
 }  // namespace detail
 
 // ---------------------------------------------------------------------------------------------------------------
@@ -333,30 +441,8 @@ void integrate(const FloatingModel<S, T>& model, const Eigen::MatrixBase<Q>& q, 
   detail::check_q(model, out_, "integrate", "out");
   auto& out = const_cast<Eigen::MatrixBase<Out>&>(out_);
   const int n = model.njoints();
-  const Vector3<S> w = Vector3<S>(S(v[3]), S(v[4]), S(v[5])) * dt;
-  const Vector3<S> u = Vector3<S>(S(v[0]), S(v[1]), S(v[2])) * dt;
-  S a, b, c;
-  detail::exp_coefficients(w.squaredNorm(), a, b, c);
-  const Vector3<S> wxu = w.cross(u);
-  const Vector3<S> dp = u + b * wxu + c * w.cross(wxu);  // V(ω) u
-  // exp(ω̂) as a quaternion: (cos θ/2, sin(θ/2)/θ · ω), with sin(θ/2)/θ = a(θ/2) / 2.
-  S ah, bh, ch;
-  detail::exp_coefficients(w.squaredNorm() / S(4), ah, bh, ch);
-  using std::cos;
-  using std::sqrt;
-  // cos(θ/2); for AD scalars as 1 − (θ/2)² b(θ/2), smooth in θ² (cos √θ² has no derivative at θ = 0).
-  S ch2;
-  if constexpr (detail::is_builtin_float_v<S>) ch2 = cos(sqrt(w.squaredNorm()) / S(2));
-  else ch2 = S(1) - w.squaredNorm() / S(4) * bh;
-  const Eigen::Quaternion<S> dq(ch2, ah / S(2) * w[0], ah / S(2) * w[1], ah / S(2) * w[2]);
-  const Eigen::Quaternion<S> q0 = root_quaternion(q).template cast<S>();
-  const Vector3<S> p0 = Vector3<S>(S(q[0]), S(q[1]), S(q[2]));
-  const Vector3<S> p1 = p0 + q0 * dp;
-  Eigen::Quaternion<S> q1 = q0 * dq;
-  q1.normalize();
   for (int i = 0; i < n; ++i) out[7 + i] = q[7 + i] + v[6 + i] * dt;
-  out[0] = p1[0], out[1] = p1[1], out[2] = p1[2];
-  out[3] = q1.x(), out[4] = q1.y(), out[5] = q1.z(), out[6] = q1.w();
+  detail::free_flyer_integrate<S>(q.template head<7>(), v.template head<6>(), dt, out.template head<7>());
 }
 /// q ⊕ v dt, returned.
 template <class S, class T, class Q, class V>
@@ -376,45 +462,8 @@ void difference(const FloatingModel<S, T>& model, const Eigen::MatrixBase<Q0>& q
   detail::check_q(model, q1, "difference", "q1");
   detail::check_v(model, out_, "difference", "out");
   auto& out = const_cast<Eigen::MatrixBase<Out>&>(out_);
-  using std::atan2;
   const int n = model.njoints();
-  const Eigen::Quaternion<S> r0 = root_quaternion(q0).template cast<S>().normalized();
-  const Eigen::Quaternion<S> r1 = root_quaternion(q1).template cast<S>().normalized();
-  Eigen::Quaternion<S> d = r0.conjugate() * r1;
-  if (d.w() < S(0)) d.coeffs() = -d.coeffs();
-  const Vector3<S> xyz = d.vec();
-  // ω = θ · axis with θ = 2 atan2(|xyz|, w): the factor θ / |xyz|, by its series for small angles. For AD scalars
-  // the series is taken in |xyz|² (|xyz| = √|xyz|² has no derivative at 0) with one more term.
-  S k;
-  if constexpr (detail::is_builtin_float_v<S>) {
-    const S sn = xyz.norm();
-    k = sn < S(1e-6) ? S(2) / d.w() * (S(1) - sn * sn / (S(3) * d.w() * d.w())) : S(2) * atan2(sn, d.w()) / sn;
-  } else {
-    using std::sqrt;
-    const S sn2 = xyz.squaredNorm();
-    const S x2 = sn2 / (d.w() * d.w());  // tan²(θ/2); atan(x)/x = 1 − x²/3 + x⁴/5 − …
-    k = sn2 < S(1e-12) ? S(2) / d.w() * (S(1) - x2 / S(3) * (S(1) - S(3) * x2 / S(5)))
-                       : S(2) * atan2(sqrt(sn2), d.w()) / sqrt(sn2);
-  }
-  const Vector3<S> w = k * xyz;
-  const Vector3<S> dp = r0.conjugate() * Vector3<S>(S(q1[0] - q0[0]), S(q1[1] - q0[1]), S(q1[2] - q0[2]));
-  // u = V(ω)⁻¹ dp, V⁻¹ = 1 − ½ ω̂ + e ω̂², e = (1 − θ sin θ / (2 (1 − cos θ))) / θ² (series: 1/12 + θ²/720).
-  const S th2 = w.squaredNorm();
-  S e;
-  if (th2 < S(1e-4)) {
-    if constexpr (detail::is_builtin_float_v<S>) e = S(1) / S(12) + th2 / S(720);
-    else e = S(1) / S(12) + th2 / S(720) * (S(1) + th2 / S(42));  // + θ⁴/30240
-  } else {
-    using std::cos;
-    using std::sin;
-    using std::sqrt;
-    const S th = sqrt(th2);
-    e = (S(1) - th * sin(th) / (S(2) * (S(1) - cos(th)))) / th2;
-  }
-  const Vector3<S> wxp = w.cross(dp);
-  const Vector3<S> u = dp - wxp / S(2) + e * w.cross(wxp);
-  out[0] = u[0], out[1] = u[1], out[2] = u[2];
-  out[3] = w[0], out[4] = w[1], out[5] = w[2];
+  detail::free_flyer_difference<S>(q0.template head<7>(), q1.template head<7>(), out.template head<6>());
   for (int i = 0; i < n; ++i) out[6 + i] = q1[7 + i] - q0[7 + i];
 }
 /// q₁ ⊖ q₀, returned.
@@ -453,20 +502,11 @@ typename FloatingModel<S, T>::ConfigVector random_configuration(const FloatingMo
                                                                 const Eigen::MatrixBase<U>& upper, Rng& rng,
                                                                 const Vector3<S>& pmin = Vector3<S>::Constant(-1),
                                                                 const Vector3<S>& pmax = Vector3<S>::Constant(1)) {
-  using std::cos;
   using std::isfinite;
-  using std::sin;
-  using std::sqrt;
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   typename FloatingModel<S, T>::ConfigVector q(model.nq());
   for (int k = 0; k < 3; ++k) q[k] = pmin[k] + S(unit(rng)) * (pmax[k] - pmin[k]);
-  const S u1 = S(unit(rng)), u2 = S(unit(rng)), u3 = S(unit(rng));
-  const S two_pi = S(2) * S(EIGEN_PI);
-  const S a = sqrt(S(1) - u1), b = sqrt(u1);
-  q[3] = a * sin(two_pi * u2);
-  q[4] = a * cos(two_pi * u2);
-  q[5] = b * sin(two_pi * u3);
-  q[6] = b * cos(two_pi * u3);
+  detail::random_unit_quaternion<S>(rng, q.template segment<4>(3));
   for (int i = 0; i < model.njoints(); ++i) {
     const S lo = isfinite(double(lower[i])) ? S(lower[i]) : -S(EIGEN_PI);
     const S hi = isfinite(double(upper[i])) ? S(upper[i]) : S(EIGEN_PI);

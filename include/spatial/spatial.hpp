@@ -2,7 +2,7 @@
 /// \file spatial.hpp
 /// Umbrella header of the spatial library: spatial vector algebra, joints, kinematic trees and the dynamics
 /// algorithms (RNEA, CRBA, LTDL, ABA), floating bases, kinematics, centroidal quantities, input checks, printing
-/// (io.hpp), derivatives, H⁻¹, rigid contacts, ZMP. See README.md for the conventions.
+/// (io.hpp), derivatives, H⁻¹, rigid contacts, ZMP, trees with spherical joints (general.hpp). See README.md for the conventions.
 
 #include "spatial/algebra.hpp"
 #include "spatial/joints.hpp"
@@ -10,6 +10,7 @@
 #include "spatial/sincos.hpp"
 #include "spatial/algorithms.hpp"
 #include "spatial/floating.hpp"
+#include "spatial/general.hpp"
 #include "spatial/centroidal.hpp"
 #include "spatial/checks.hpp"
 #include "spatial/options.hpp"
