@@ -222,10 +222,19 @@ Force<typename V::Scalar> root_wrench(const Eigen::MatrixBase<V>& tau) {
   using S = typename V::Scalar;
   return Force<S>(Vector3<S>(tau[3], tau[4], tau[5]), Vector3<S>(tau[0], tau[1], tau[2]));
 }
+namespace detail {
+/// The quaternion stored at q[k … k+3] in Eigen's (x, y, z, w) coefficient order (a free-flyer's at k = 3, a
+/// spherical joint's at its first entry, general.hpp).
+template <class S, class Q>
+Eigen::Quaternion<S> quaternion_at(const Eigen::MatrixBase<Q>& q, int k) {
+  return Eigen::Quaternion<S>(S(q[k + 3]), S(q[k]), S(q[k + 1]), S(q[k + 2]));
+}
+}  // namespace detail
+
 /// The root's orientation (root axes → world axes) from q.
 template <class Q>
 Eigen::Quaternion<typename Q::Scalar> root_quaternion(const Eigen::MatrixBase<Q>& q) {
-  return Eigen::Quaternion<typename Q::Scalar>(q[6], q[3], q[4], q[5]);
+  return detail::quaternion_at<typename Q::Scalar>(q, 3);
 }
 
 namespace detail {
@@ -262,7 +271,7 @@ auto joint_block(const Eigen::MatrixBase<Vec>& x, int offset, int n) {
 /// ⁰X_w from q: E = Rᵀ (R = the quaternion's rotation, root → world), r = the root origin in the world.
 template <class S, class Q>
 Transform<S> root_transform(const Eigen::MatrixBase<Q>& q) {
-  const Eigen::Quaternion<S> rot = Eigen::Quaternion<S>(S(q[6]), S(q[3]), S(q[4]), S(q[5]));
+  const Eigen::Quaternion<S> rot = quaternion_at<S>(q, 3);
   Transform<S> X;
   X.E = rot.toRotationMatrix().transpose();
   X.r = Vector3<S>(S(q[0]), S(q[1]), S(q[2]));
@@ -371,7 +380,7 @@ void free_flyer_integrate(const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase
   const Vector3<S> wxu = w.cross(u);
   const Vector3<S> dp = u + b * wxu + c * w.cross(wxu);  // V(ω) u
   const Eigen::Quaternion<S> dq = quaternion_exp(w);
-  const Eigen::Quaternion<S> q0 = Eigen::Quaternion<S>(S(q[6]), S(q[3]), S(q[4]), S(q[5]));
+  const Eigen::Quaternion<S> q0 = quaternion_at<S>(q, 3);
   const Vector3<S> p0 = Vector3<S>(S(q[0]), S(q[1]), S(q[2]));
   const Vector3<S> p1 = p0 + q0 * dp;
   Eigen::Quaternion<S> q1 = q0 * dq;
@@ -386,8 +395,8 @@ template <class S, class Q0, class Q1, class Out>
 void free_flyer_difference(const Eigen::MatrixBase<Q0>& q0, const Eigen::MatrixBase<Q1>& q1,
                            const Eigen::MatrixBase<Out>& out_) {
   auto& out = const_cast<Eigen::MatrixBase<Out>&>(out_);
-  const Eigen::Quaternion<S> r0 = Eigen::Quaternion<S>(S(q0[6]), S(q0[3]), S(q0[4]), S(q0[5]));
-  const Eigen::Quaternion<S> r1 = Eigen::Quaternion<S>(S(q1[6]), S(q1[3]), S(q1[4]), S(q1[5]));
+  const Eigen::Quaternion<S> r0 = quaternion_at<S>(q0, 3);
+  const Eigen::Quaternion<S> r1 = quaternion_at<S>(q1, 3);
   const Vector3<S> w = quaternion_log_between(r0, r1);
   const Vector3<S> dp = r0.normalized().conjugate() * Vector3<S>(S(q1[0] - q0[0]), S(q1[1] - q0[1]), S(q1[2] - q0[2]));
   // u = V(ω)⁻¹ dp, V⁻¹ = 1 − ½ ω̂ + e ω̂², e = (1 − θ sin θ / (2 (1 − cos θ))) / θ² (series: 1/12 + θ²/720).

@@ -246,12 +246,6 @@ inline void check_general(const GeneralModel<S>& model, const Eigen::MatrixBase<
 #endif
 }
 
-/// The unit quaternion stored at q[k … k+3] as (x, y, z, w).
-template <class S, class Q>
-Eigen::Quaternion<S> quaternion_at(const Eigen::MatrixBase<Q>& q, int k) {
-  return Eigen::Quaternion<S>(S(q[k + 3]), S(q[k]), S(q[k + 1]), S(q[k + 2]));
-}
-
 /// ⁱX_λ = X_J(qᵢ) X_T(i), from q and its sines and cosines (`GeneralData::sin_q`, `cos_q`).
 template <class S, class Q>
 Transform<S> general_joint_transform(const GeneralModel<S>& model, const GeneralData<S>& data, int i,
